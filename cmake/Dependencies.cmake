@@ -1,0 +1,40 @@
+# Finds the Debian packages spectralize builds with, working around two packaging bugs of
+# Debian 12 (see DESIGN §7).
+
+find_package(fmt REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(Eigen3 REQUIRED NO_MODULE)
+find_package(OpenImageIO REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(Imath REQUIRED)
+
+# OIIO's exported target names /usr/include/opencv4, which does not exist without OpenCV's
+# headers; CMake refuses non-existent include dirs on imported targets.
+get_target_property(_oiio_inc OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+if(_oiio_inc)
+  list(FILTER _oiio_inc EXCLUDE REGEX "opencv4")
+  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_inc}")
+endif()
+foreach(_t OpenImageIO::OpenImageIO_Util)
+  if(TARGET ${_t})
+    get_target_property(_inc ${_t} INTERFACE_INCLUDE_DIRECTORIES)
+    if(_inc)
+      list(FILTER _inc EXCLUDE REGEX "opencv4")
+      set_target_properties(${_t} PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_inc}")
+    endif()
+  endif()
+endforeach()
+
+# OpenColorIO's CMake config is installed where find_package does not look on Debian 12, and it
+# is not reliable there: build the imported target by hand.
+if(NOT TARGET OpenColorIO::OpenColorIO)
+  find_path(OCIO_INCLUDE_DIR OpenColorIO/OpenColorIO.h REQUIRED)
+  find_library(OCIO_LIBRARY NAMES OpenColorIO REQUIRED)
+  add_library(OpenColorIO::OpenColorIO UNKNOWN IMPORTED)
+  set_target_properties(OpenColorIO::OpenColorIO PROPERTIES
+    IMPORTED_LOCATION "${OCIO_LIBRARY}"
+    INTERFACE_INCLUDE_DIRECTORIES "${OCIO_INCLUDE_DIR}")
+endif()
+
+find_program(OCIOCHECK_EXECUTABLE ociocheck)
+find_program(OIIOTOOL_EXECUTABLE oiiotool)

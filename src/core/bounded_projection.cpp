@@ -1,0 +1,112 @@
+#include "core/bounded_projection.h"
+
+#include <cmath>
+
+namespace spectralize {
+
+namespace {
+
+// Primitive of clamp(z, 0, upper), so that the dual objective below is smooth and convex.
+double clamp_primitive(double z, double upper) {
+  if (z <= 0) return 0;
+  if (z <= upper) return 0.5 * z * z;
+  return 0.5 * upper * upper + upper * (z - upper);
+}
+
+struct Sym3 {
+  double a[3][3] = {};
+};
+
+// Solves (H + mu I) d = rhs for a symmetric positive semidefinite H by Cholesky.
+Xyz solve_regularised(const Sym3& h, const Xyz& rhs) {
+  double trace = h.a[0][0] + h.a[1][1] + h.a[2][2];
+  double mu = 1e-13 * trace + 1e-300;
+  double l[3][3] = {};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double sum = h.a[i][j] + (i == j ? mu : 0.0);
+      for (int k = 0; k < j; ++k) sum -= l[i][k] * l[j][k];
+      if (i == j)
+        l[i][i] = std::sqrt(std::max(sum, mu));
+      else
+        l[i][j] = sum / l[j][j];
+    }
+  Xyz y, x;
+  for (int i = 0; i < 3; ++i) {
+    double sum = rhs[i];
+    for (int k = 0; k < i; ++k) sum -= l[i][k] * y[k];
+    y[i] = sum / l[i][i];
+  }
+  for (int i = 2; i >= 0; --i) {
+    double sum = y[i];
+    for (int k = i + 1; k < 3; ++k) sum -= l[k][i] * x[k];
+    x[i] = sum / l[i][i];
+  }
+  return x;
+}
+
+}  // namespace
+
+Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
+                         const Xyz& target, double upper) {
+  const std::size_t n = weights.size();
+  Projection out;
+  out.values.resize(n);
+  const double tol = 1e-13 * std::max(target.max_abs(), 1e-300);
+
+  // Dual objective psi(nu) = sum_m P(start_m + c_m.nu) - target.nu; its gradient is
+  // W x(nu) - target, so a minimiser gives an exact x.
+  auto evaluate = [&](const Xyz& nu, Xyz& grad, Sym3* hess) {
+    double psi = -dot(target, nu);
+    grad = Xyz{} - target;
+    for (std::size_t m = 0; m < n; ++m) {
+      const Xyz& c = weights[m];
+      double z = start[m] + dot(c, nu);
+      psi += clamp_primitive(z, upper);
+      double x = std::min(std::max(z, 0.0), upper);
+      out.values[m] = x;
+      grad = grad + x * c;
+      if (hess && z > 0 && z < upper)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) hess->a[i][j] += c[i] * c[j];
+    }
+    return psi;
+  };
+
+  Xyz nu, grad;
+  Sym3 hess;
+  double psi = evaluate(nu, grad, &hess);
+  for (out.iterations = 0; out.iterations < 100; ++out.iterations) {
+    if (grad.max_abs() <= tol) {
+      out.converged = true;
+      return out;
+    }
+    // Newton direction on the active (free) set, then backtracking on the convex objective.
+    Xyz step = solve_regularised(hess, Xyz{} - grad);
+    double slope = dot(grad, step);
+    if (!(slope < 0)) step = Xyz{} - grad, slope = dot(grad, step);
+    double t = 1.0;
+    Xyz trial_grad;
+    Sym3 trial_hess;
+    double trial_psi = 0;
+    bool accepted = false;
+    for (int ls = 0; ls < 60; ++ls, t *= 0.5) {
+      trial_hess = Sym3{};
+      trial_psi = evaluate(nu + t * step, trial_grad, &trial_hess);
+      if (trial_psi <= psi + 1e-4 * t * slope || trial_grad.max_abs() <= tol) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;  // no descent left: numerically stuck (e.g. infeasible target)
+    nu = nu + t * step;
+    psi = trial_psi;
+    grad = trial_grad;
+    hess = trial_hess;
+  }
+  evaluate(nu, grad, nullptr);
+  out.converged = grad.max_abs() <= tol;
+  return out;
+}
+
+}  // namespace spectralize

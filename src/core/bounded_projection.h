@@ -1,0 +1,28 @@
+#pragma once
+// The exact bounded fallback: the spectrum closest (least squares) to a starting spectrum among
+// all spectra with W x = target and 0 <= x <= upper (DESIGN §5's feasible set). Used to enforce
+// rho <= 1 when the paper's filter alone does not, and to polish the paper's average to double
+// precision exactness.
+
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "core/xyz.h"
+
+namespace spectralize {
+
+struct Projection {
+  std::vector<double> values;
+  bool converged = false;  // false: target infeasible for the bounds (or iteration cap hit)
+  int iterations = 0;
+};
+
+/// Solves min ||x - start||^2 s.t. W x = target, 0 <= x <= upper by a globally convergent
+/// semismooth Newton method on the 3-dimensional dual (x = clamp(start + W^T nu)). Capped at
+/// 100 iterations, so it always returns. Cost: O(N) per iteration, typically 2..10 iterations.
+Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
+                         const Xyz& target,
+                         double upper = std::numeric_limits<double>::infinity());
+
+}  // namespace spectralize

@@ -1,0 +1,62 @@
+#include "core/edge_filter.h"
+
+#include <charconv>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace spectralize {
+
+EdgeFilter EdgeFilter::fraction(double f) {
+  if (!(f >= 0 && f < 1))
+    throw Error("edge filter: a fraction must be in [0, 1), got " + std::to_string(f));
+  EdgeFilter e;
+  e.kind_ = Kind::fraction;
+  e.value_ = f;
+  return e;
+}
+
+EdgeFilter EdgeFilter::count(std::size_t k) {
+  EdgeFilter e;
+  e.kind_ = Kind::count;
+  e.value_ = static_cast<double>(k);
+  return e;
+}
+
+EdgeFilter EdgeFilter::parse(std::string_view text) {
+  const std::string quoted = "edge filter '" + std::string(text) + "': ";
+  if (text == "none") return EdgeFilter();
+  bool percent = !text.empty() && text.back() == '%';
+  std::string_view num = percent ? text.substr(0, text.size() - 1) : text;
+  double v = 0;
+  auto r = std::from_chars(num.data(), num.data() + num.size(), v);
+  if (num.empty() || r.ec != std::errc() || r.ptr != num.data() + num.size() || !std::isfinite(v))
+    throw Error(quoted + "expected a fraction (0.7), a percentage (70%) or a count (1000)");
+  if (v < 0) throw Error(quoted + "must not be negative");
+  if (percent) {
+    if (v >= 100) throw Error(quoted + "a percentage must be below 100%");
+    return fraction(v / 100.0);
+  }
+  bool integral = num.find_first_of(".eE") == std::string_view::npos;
+  if (integral) return count(static_cast<std::size_t>(v));
+  if (v >= 1) throw Error(quoted + "a fraction must be below 1 (use an integer for a count)");
+  return fraction(v);
+}
+
+std::size_t EdgeFilter::drop_count(std::size_t admissible) const {
+  if (admissible == 0) return 0;
+  std::size_t k = (kind_ == Kind::count)
+                      ? static_cast<std::size_t>(value_)
+                      : static_cast<std::size_t>(std::floor(value_ * static_cast<double>(admissible)));
+  return std::min(k, admissible - 1);
+}
+
+std::string EdgeFilter::to_string() const {
+  if (kind_ == Kind::count) return std::to_string(static_cast<std::size_t>(value_));
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, value_);
+  std::string s(buf, r.ptr);
+  return s.find('.') == std::string::npos && s.find('e') == std::string::npos ? s + ".0" : s;
+}
+
+}  // namespace spectralize

@@ -1,0 +1,37 @@
+#pragma once
+// The paper's edge-peak filter: sort the admissible partial solutions by their largest density
+// and drop the K largest (Zhdanov & Potemin, section 3). K is a count or a fraction of L.
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace spectralize {
+
+class EdgeFilter {
+ public:
+  enum class Kind { fraction, count };
+
+  /// Drop nothing. Cost: O(1).
+  EdgeFilter() = default;
+  /// Drop `f` of the L partial solutions, 0 <= f < 1; throws Error otherwise. Cost: O(1).
+  static EdgeFilter fraction(double f);
+  /// Drop `k` partial solutions (always keeping at least one). Cost: O(1).
+  static EdgeFilter count(std::size_t k);
+  /// Parses "0.7", "70%" (fractions), "1000" (a count) or "none"; throws Error. Cost: O(len).
+  static EdgeFilter parse(std::string_view text);
+
+  /// How many of L admissible partial solutions to drop; keeps at least one. Cost: O(1).
+  std::size_t drop_count(std::size_t admissible) const;
+  Kind kind() const { return kind_; }
+  double value() const { return value_; }
+  /// "0.7" or "1000": parseable by parse(). Cost: O(1).
+  std::string to_string() const;
+  friend bool operator==(const EdgeFilter&, const EdgeFilter&) = default;
+
+ private:
+  Kind kind_ = Kind::fraction;
+  double value_ = 0;
+};
+
+}  // namespace spectralize

@@ -1,0 +1,51 @@
+#pragma once
+// Tristimulus weights of each grid sample under the reference integration (DESIGN §3):
+// W_i = sum_k tau_k * cmf(lambda_k) * E(lambda_k) * h_i(lambda_k) / norm, where h_i is the tent
+// of sample i, so that W . phi is exactly the trapezoid integral of the piecewise-linear
+// spectrum phi on the 1 nm CIE tables.
+
+#include <span>
+#include <vector>
+
+#include "core/colorimetry.h"
+#include "core/wavelength_grid.h"
+#include "core/xyz.h"
+
+namespace spectralize {
+
+/// Value at wavelength `nm` of the piecewise-linear spectrum through `values` on `grid`, zero
+/// outside [start, end]. Cost: O(1).
+double piecewise_linear(const WavelengthGrid& grid, std::span<const double> values, double nm);
+
+/// XYZ of a piecewise-linear spectrum by direct trapezoid integration on the 1 nm tables,
+/// optionally times an illuminant, divided by `norm`. Independent of SampleWeights (used to
+/// check it). Cost: O(471).
+Xyz integrate_reference(const WavelengthGrid& grid, std::span<const double> values,
+                        const Observer& observer, const Illuminant* illuminant, double norm);
+
+class SampleWeights {
+ public:
+  /// Emission weights (illuminant == nullptr; normalised by K = sum tau ybar, so a constant
+  /// spectrum v has Y ~= v) or reflectance weights (normalised so rho == 1 has Y = 1).
+  /// Cost: O(471 + N).
+  SampleWeights(const WavelengthGrid& grid, const Observer& observer,
+                const Illuminant* illuminant);
+
+  /// The weight vector (X, Y, Z) of each sample. Cost: O(1).
+  const std::vector<Xyz>& columns() const { return columns_; }
+  /// W . phi: the XYZ of a spectrum on this grid. Cost: O(N).
+  Xyz integrate(std::span<const double> spectrum) const;
+  /// The XYZ of the constant spectrum 1 (reflectance: the reference white, Y = 1). Cost: O(1).
+  Xyz unit_white() const { return white_; }
+  /// The normalisation divided out of the raw sums. Cost: O(1).
+  double normalisation() const { return norm_; }
+  const WavelengthGrid& grid() const { return grid_; }
+
+ private:
+  WavelengthGrid grid_;
+  std::vector<Xyz> columns_;
+  Xyz white_;
+  double norm_ = 1;
+};
+
+}  // namespace spectralize

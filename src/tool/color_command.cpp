@@ -1,0 +1,156 @@
+// spectralize --color: one or more colours to spectra, printed as CSV or JSON.
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/spectralizer.h"
+#include "io/colour_space.h"
+#include "tool/options.h"
+
+namespace spectralize::tool {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct Rgb {
+  double r, g, b;
+  std::string text;
+};
+
+// Parses "R,G,B" into three finite numbers.
+Rgb parse_rgb(const std::string& text) {
+  std::vector<double> v;
+  std::size_t pos = 0;
+  while (true) {
+    std::size_t comma = text.find(',', pos);
+    std::string part = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    // Allow surrounding spaces ("0.2, 0.5, 0.1" quoted as one argument).
+    std::size_t b = part.find_first_not_of(' '), e = part.find_last_not_of(' ');
+    part = b == std::string::npos ? "" : part.substr(b, e - b + 1);
+    const char* first = part.data() + (part.size() > 0 && part[0] == '+' ? 1 : 0);
+    double x = 0;
+    auto r = std::from_chars(first, part.data() + part.size(), x);
+    if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
+      throw UsageError{fmt::format("--color '{}': '{}' is not a number", text, part)};
+    if (!std::isfinite(x))
+      throw UsageError{fmt::format("--color '{}': components must be finite, got '{}'", text, part)};
+    v.push_back(x);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (v.size() != 3)
+    throw UsageError{fmt::format("--color '{}': expected 3 components R,G,B, got {}", text, v.size())};
+  return {v[0], v[1], v[2], text};
+}
+
+// Runs `fn` and turns the core's configuration errors into usage errors naming the flag.
+template <typename Fn>
+auto flag_value(const char* flag, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const Error& e) {
+    throw UsageError{fmt::format("{}: {}", flag, e.what())};
+  }
+}
+
+Json xyz_json(const Xyz& v) { return Json::array({v.X, v.Y, v.Z}); }
+
+Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& sp,
+                 const SpectrumResult& r) {
+  const auto& s = sp.settings();
+  Json j;
+  j["input_rgb"] = Json::array({rgb.r, rgb.g, rgb.b});
+  j["colorspace"] = space;
+  j["mode"] = std::string(to_string(s.mode));
+  j["wavelengths"] = s.grid.to_string();
+  j["observer"] = sp.observer().name;
+  if (s.mode == Mode::reflectance) j["illuminant"] = sp.illuminant()->name;
+  j["filter"] = s.filter.to_string();
+  j["status"] = std::string(to_string(r.status));
+  if (!r.message.empty()) j["message"] = r.message;
+  j["input_xyz"] = xyz_json(r.input);
+  j["target_xyz"] = xyz_json(r.target);
+  j["xyz"] = xyz_json(r.xyz);
+  j["relative_error"] = r.relative_error;
+  j["admissible"] = r.admissible;
+  j["dropped"] = r.dropped;
+  j["bounded"] = r.bounded;
+  j["gamut_distance"] = r.gamut_distance;
+  Json wl = Json::array(), values = Json::array();
+  for (std::size_t i = 0; i < s.grid.size(); ++i) {
+    wl.push_back(s.grid[i]);
+    values.push_back(r.values[i]);
+  }
+  j["wavelengths_nm"] = std::move(wl);
+  j["values"] = std::move(values);
+  return j;
+}
+
+}  // namespace
+
+int run_color(const Options& opt) {
+  // Validate every flag before any work, so a mistake is reported as such (exit 2).
+  if (opt.format != "csv" && opt.format != "json")
+    throw UsageError{fmt::format("--format '{}': valid formats for --color are csv, json", opt.format)};
+  SpectralizerSettings settings;
+  settings.mode = flag_value("--mode", [&] { return parse_mode(opt.mode); });
+  settings.grid = flag_value("--wavelengths", [&] { return WavelengthGrid::parse(opt.wavelengths); });
+  settings.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
+  settings.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
+  if (!opt.filter.empty())
+    settings.filter = flag_value("--filter", [&] { return EdgeFilter::parse(opt.filter); });
+  std::vector<Rgb> colours;
+  for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
+
+  ColourSpaces spaces = opt.config.empty()
+                            ? ColourSpaces::load()
+                            : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  std::string space = opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
+  ToXyz to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+
+  Spectralizer spectralizer(settings);
+  std::vector<SpectrumResult> results;
+  int status = kExitOk;
+  for (const Rgb& c : colours) {
+    results.push_back(spectralizer.spectralize(to_xyz(c.r, c.g, c.b)));
+    const SpectrumResult& r = results.back();
+    if (r.status == Status::out_of_gamut)
+      fmt::print(stderr,
+                 "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
+                 c.text, to_xyz.source(), r.message, r.gamut_distance);
+    if (r.status == Status::invalid) {
+      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(), r.message);
+      status = kExitFailure;
+    }
+  }
+
+  const auto& grid = settings.grid;
+  if (opt.format == "json") {
+    Json out = Json::array();
+    for (std::size_t i = 0; i < results.size(); ++i)
+      out.push_back(result_json(colours[i], to_xyz.source(), spectralizer, results[i]));
+    fmt::print("{}\n", (results.size() == 1 ? out[0] : out).dump(2));
+  } else {
+    std::string header = "wavelength_nm";
+    for (std::size_t c = 0; c < results.size(); ++c)
+      header += results.size() == 1 ? ",value" : fmt::format(",value_{}", c + 1);
+    fmt::print("{}\n", header);
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      std::string row = fmt::format("{}", grid[i]);
+      for (const auto& r : results) row += fmt::format(",{}", r.values[i]);
+      fmt::print("{}\n", row);
+    }
+  }
+  return status;
+}
+
+}  // namespace spectralize::tool

@@ -1,0 +1,93 @@
+// spectralize: RGB colours and images to exact spectra (see README.md).
+
+#include <OpenImageIO/argparse.h>
+
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include "core/error.h"
+#include "tool/options.h"
+
+using namespace spectralize;
+using namespace spectralize::tool;
+
+namespace {
+
+// Binds "--flag VALUE" to a string field, so every value is validated by the command that uses
+// it, with a message naming the flag (ArgParse's own conversions accept garbage as 0).
+auto store(std::string& field) {
+  return [&field](OIIO::cspan<const char*> args) { field = args[1]; };
+}
+
+}  // namespace
+
+int main(int argc, const char** argv) {
+  Options opt;
+  OIIO::ArgParse ap;
+  ap.intro("spectralize " SPECTRALIZE_VERSION
+           " -- exact RGB-to-spectrum conversion (Zhdanov & Potemin)\n"
+           "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
+           "stays <= 1.")
+      .usage("spectralize --color R,G,B [options]")
+      .add_help(true)
+      .exit_on_error(false);
+
+  ap.separator("Single colours:");
+  ap.arg("--color R,G,B")
+      .help("Spectralize one colour (repeatable); prints the spectrum to stdout")
+      .action([&](OIIO::cspan<const char*> args) { opt.colors.emplace_back(args[1]); });
+  ap.arg("--format FORMAT")
+      .help("Output of --color: csv (wavelength_nm,value rows; default) or json (every field)")
+      .action(store(opt.format));
+
+  ap.separator("Colour:");
+  ap.arg("--colorspace NAME")
+      .help("Input colour space, a name or alias of the OCIO config (default: Linear Rec.709 (sRGB))")
+      .action(store(opt.colorspace));
+  ap.arg("--config FILE")
+      .help("OCIO config to use (default: $OCIO, else the config shipped with spectralize)")
+      .action(store(opt.config));
+
+  ap.separator("Spectrum:");
+  ap.arg("--mode MODE")
+      .help("emission (lights, HDR; default) or reflectance (surfaces, rho in [0,1])")
+      .action(store(opt.mode));
+  ap.arg("--wavelengths START:END:STEP")
+      .help("Sampling grid in nm inside 360..830, step >= 0.5 (default 380:780:5)")
+      .action(store(opt.wavelengths));
+  ap.arg("--observer NAME")
+      .help("CIE standard observer: cie1931 (2 deg, default) or cie1964 (10 deg)")
+      .action(store(opt.observer));
+  ap.arg("--illuminant NAME")
+      .help("Reference illuminant of reflectances: D65 (default), D50, A, C, E, D<nn>, FL1..FL12, ...")
+      .action(store(opt.illuminant));
+  ap.arg("--filter K")
+      .help("Edge-peak filter: drop the K partial solutions with the largest density; a fraction "
+            "(0.7), a percentage (70%), a count (1000) or none (default 0.7)")
+      .action(store(opt.filter));
+
+  if (ap.parse_args(argc, argv) < 0) {
+    std::string err = ap.geterror();
+    std::fprintf(stderr, "spectralize ERROR: %s\nRun 'spectralize --help' for the options.\n",
+                 err.c_str());
+    return kExitUsage;
+  }
+
+  try {
+    if (!opt.colors.empty()) return run_color(opt);
+    std::fprintf(stderr,
+                 "spectralize ERROR: nothing to do: give --color R,G,B\n"
+                 "Run 'spectralize --help' for the options.\n");
+    return kExitUsage;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "spectralize ERROR: %s\n", e.message.c_str());
+    return kExitUsage;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "spectralize ERROR: %s\n", e.what());
+    return kExitFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "spectralize ERROR: %s\n", e.what());
+    return kExitFailure;
+  }
+}

@@ -1,0 +1,121 @@
+// Google Benchmark kernels of the exact spectralizer (make bench).
+// BM_NaiveInverses is the baseline the issue names: a scalar loop over all C(N,3) triples with
+// precomputed 3x3 inverses. BM_SumAdmissible is the same work (enumerate, solve, sum the
+// admissible partial solutions) done by PaperSolver.
+
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <vector>
+
+#include "core/paper_solver.h"
+#include "core/spectralizer.h"
+
+using namespace spectralize;
+
+namespace {
+
+// Linear Rec.709 -> XYZ (D65), the paper's light and a few colours to cycle through.
+Xyz rec709(double r, double g, double b) {
+  return {0.41239079926595948 * r + 0.35758433938387796 * g + 0.18048078840183429 * b,
+          0.21263900587151036 * r + 0.71516867876775593 * g + 0.07219231536073372 * b,
+          0.01933081871559185 * r + 0.11919477979462599 * g + 0.95053215224966058 * b};
+}
+
+const std::vector<Xyz>& colours() {
+  static const std::vector<Xyz> c = {rec709(6000, 5000, 1000), rec709(0.21, 0.72, 0.15),
+                                     rec709(0.8, 0.3, 0.2),    rec709(0.2, 0.4, 0.9),
+                                     rec709(0.5, 0.5, 0.5),    rec709(0.9, 0.8, 0.1)};
+  return c;
+}
+
+// The naive baseline: every triple, its stored inverse matrix, a scalar loop.
+struct NaiveInverses {
+  std::vector<std::array<int, 3>> triples;
+  std::vector<std::array<double, 9>> inverses;
+  explicit NaiveInverses(const std::vector<Xyz>& w) {
+    const int n = static_cast<int>(w.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        for (int k = j + 1; k < n; ++k) {
+          const Xyz a = w[i], b = w[j], c = w[k];
+          double det = dot(a, cross(b, c));
+          if (det == 0) continue;
+          // Rows of the inverse of [a b c] (columns) are the cross products / det.
+          Xyz r0 = cross(b, c), r1 = cross(c, a), r2 = cross(a, b);
+          triples.push_back({i, j, k});
+          inverses.push_back({r0.X / det, r0.Y / det, r0.Z / det, r1.X / det, r1.Y / det,
+                              r1.Z / det, r2.X / det, r2.Y / det, r2.Z / det});
+        }
+  }
+  std::size_t sum(const Xyz& t, std::vector<double>& out) const {
+    std::fill(out.begin(), out.end(), 0.0);
+    std::size_t count = 0;
+    for (std::size_t m = 0; m < triples.size(); ++m) {
+      const auto& inv = inverses[m];
+      double p0 = inv[0] * t.X + inv[1] * t.Y + inv[2] * t.Z;
+      double p1 = inv[3] * t.X + inv[4] * t.Y + inv[5] * t.Z;
+      double p2 = inv[6] * t.X + inv[7] * t.Y + inv[8] * t.Z;
+      if (p0 >= 0 && p1 >= 0 && p2 >= 0) {
+        out[triples[m][0]] += p0;
+        out[triples[m][1]] += p1;
+        out[triples[m][2]] += p2;
+        ++count;
+      }
+    }
+    return count;
+  }
+};
+
+WavelengthGrid grid_for(int step) { return WavelengthGrid(380, 780, step); }
+
+void BM_NaiveInverses(benchmark::State& state) {
+  SpectralizerSettings s;
+  s.grid = grid_for(static_cast<int>(state.range(0)));
+  Spectralizer sp(s);
+  NaiveInverses naive(sp.weights().columns());
+  std::vector<double> out(s.grid.size());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(naive.sum(colours()[i++ % colours().size()], out));
+    benchmark::ClobberMemory();
+  }
+}
+
+void BM_SumAdmissible(benchmark::State& state) {
+  SpectralizerSettings s;
+  s.grid = grid_for(static_cast<int>(state.range(0)));
+  Spectralizer sp(s);
+  PaperSolver solver(sp.weights().columns());
+  std::vector<double> out(s.grid.size());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(solver.sum_admissible(colours()[i++ % colours().size()], out));
+    benchmark::ClobberMemory();
+  }
+}
+
+// Full solve: edge filter, exact polish and (reflectance) the rho <= 1 bound.
+void BM_FullSolve(benchmark::State& state) {
+  SpectralizerSettings s;
+  s.grid = grid_for(static_cast<int>(state.range(0)));
+  s.mode = state.range(1) ? Mode::reflectance : Mode::emission;
+  Spectralizer sp(s);
+  std::size_t i = 1;  // skip the 6000-lm light in reflectance runs' cycle start
+  for (auto _ : state) {
+    Xyz c = colours()[i++ % colours().size()];
+    if (s.mode == Mode::reflectance && c.Y > 1) c = (0.5 / c.Y) * c;
+    benchmark::DoNotOptimize(sp.spectralize(c));
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_NaiveInverses)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SumAdmissible)->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FullSolve)
+    ->ArgNames({"step", "reflectance"})
+    ->Args({10, 0})->Args({5, 0})->Args({5, 1})->Args({1, 0})
+    ->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
