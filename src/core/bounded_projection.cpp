@@ -17,10 +17,9 @@ struct Sym3 {
   double a[3][3] = {};
 };
 
-// Solves (H + mu I) d = rhs for a symmetric positive semidefinite H by Cholesky.
-Xyz solve_regularised(const Sym3& h, const Xyz& rhs) {
-  double trace = h.a[0][0] + h.a[1][1] + h.a[2][2];
-  double mu = 1e-13 * trace + 1e-300;
+// Solves (H + mu I) d = rhs for a symmetric positive semidefinite H by Cholesky; mu > 0 damps
+// the directions in which H is singular (few or no free samples).
+Xyz solve_regularised(const Sym3& h, const Xyz& rhs, double mu) {
   double l[3][3] = {};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j <= i; ++j) {
@@ -49,6 +48,12 @@ Xyz solve_regularised(const Sym3& h, const Xyz& rhs) {
 
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
                          const Xyz& target, double upper) {
+  std::vector<double> bounds(weights.size(), upper);
+  return project_exact(weights, start, target, bounds);
+}
+
+Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
+                         const Xyz& target, std::span<const double> upper_bounds) {
   const std::size_t n = weights.size();
   Projection out;
   out.values.resize(n);
@@ -61,6 +66,7 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
     grad = Xyz{} - target;
     for (std::size_t m = 0; m < n; ++m) {
       const Xyz& c = weights[m];
+      const double upper = upper_bounds[m];
       double z = start[m] + dot(c, nu);
       psi += clamp_primitive(z, upper);
       double x = std::min(std::max(z, 0.0), upper);
@@ -73,33 +79,43 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
     return psi;
   };
 
+  // Scale of the problem: the trace of W W^T bounds the curvature of psi (its gradient's
+  // Lipschitz constant), which sizes both the damping and the safe gradient step.
+  double lipschitz = 0;
+  for (const Xyz& c : weights) lipschitz += dot(c, c);
+  const double mu = 1e-12 * lipschitz + 1e-300;
+
   Xyz nu, grad;
   Sym3 hess;
   double psi = evaluate(nu, grad, &hess);
-  for (out.iterations = 0; out.iterations < 100; ++out.iterations) {
+  for (out.iterations = 0; out.iterations < 200; ++out.iterations) {
     if (grad.max_abs() <= tol) {
       out.converged = true;
       return out;
     }
-    // Newton direction on the active (free) set, then backtracking on the convex objective.
-    Xyz step = solve_regularised(hess, Xyz{} - grad);
-    double slope = dot(grad, step);
-    if (!(slope < 0)) step = Xyz{} - grad, slope = dot(grad, step);
-    double t = 1.0;
+    // Damped Newton direction on the free set, then backtracking on the convex objective; if
+    // that finds no descent, a gradient step of 1/L, which always descends.
     Xyz trial_grad;
     Sym3 trial_hess;
     double trial_psi = 0;
     bool accepted = false;
-    for (int ls = 0; ls < 60; ++ls, t *= 0.5) {
-      trial_hess = Sym3{};
-      trial_psi = evaluate(nu + t * step, trial_grad, &trial_hess);
-      if (trial_psi <= psi + 1e-4 * t * slope || trial_grad.max_abs() <= tol) {
-        accepted = true;
-        break;
+    for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
+      Xyz step = attempt == 0 ? solve_regularised(hess, Xyz{} - grad, mu)
+                              : (-1.0 / lipschitz) * grad;
+      double slope = dot(grad, step);
+      if (!(slope < 0)) continue;
+      double t = 1.0;
+      for (int ls = 0; ls < 60; ++ls, t *= 0.5) {
+        trial_hess = Sym3{};
+        trial_psi = evaluate(nu + t * step, trial_grad, &trial_hess);
+        if (trial_psi <= psi + 1e-4 * t * slope || trial_grad.max_abs() <= tol) {
+          accepted = true;
+          nu = nu + t * step;
+          break;
+        }
       }
     }
     if (!accepted) break;  // no descent left: numerically stuck (e.g. infeasible target)
-    nu = nu + t * step;
     psi = trial_psi;
     grad = trial_grad;
     hess = trial_hess;

@@ -23,15 +23,23 @@ EdgeFilter EdgeFilter::count(std::size_t k) {
   return e;
 }
 
+EdgeFilter EdgeFilter::automatic() {
+  EdgeFilter e;
+  e.kind_ = Kind::automatic;
+  e.value_ = kAutoLadder[0];
+  return e;
+}
+
 EdgeFilter EdgeFilter::parse(std::string_view text) {
   const std::string quoted = "edge filter '" + std::string(text) + "': ";
   if (text == "none") return EdgeFilter();
+  if (text == "auto") return automatic();
   bool percent = !text.empty() && text.back() == '%';
   std::string_view num = percent ? text.substr(0, text.size() - 1) : text;
   double v = 0;
   auto r = std::from_chars(num.data(), num.data() + num.size(), v);
   if (num.empty() || r.ec != std::errc() || r.ptr != num.data() + num.size() || !std::isfinite(v))
-    throw Error(quoted + "expected a fraction (0.7), a percentage (70%) or a count (1000)");
+    throw Error(quoted + "expected auto, a fraction (0.7), a percentage (70%), a count (1000) or none");
   if (v < 0) throw Error(quoted + "must not be negative");
   if (percent) {
     if (v >= 100) throw Error(quoted + "a percentage must be below 100%");
@@ -52,6 +60,7 @@ std::size_t EdgeFilter::drop_count(std::size_t admissible) const {
 }
 
 std::string EdgeFilter::to_string() const {
+  if (kind_ == Kind::automatic) return "auto";
   if (kind_ == Kind::count) return std::to_string(static_cast<std::size_t>(value_));
   char buf[32];
   auto r = std::to_chars(buf, buf + sizeof buf, value_);

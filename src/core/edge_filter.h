@@ -1,6 +1,8 @@
 #pragma once
 // The paper's edge-peak filter: sort the admissible partial solutions by their largest density
-// and drop the K largest (Zhdanov & Potemin, section 3). K is a count or a fraction of L.
+// and drop the K largest (Zhdanov & Potemin, section 3). K is a count, a fraction of L, or
+// "auto": per colour, the smallest fraction of a fixed ladder that leaves no edge peak (no
+// sample within 20 nm of either end of the grid above the mean over 400-700 nm).
 
 #include <cstddef>
 #include <string>
@@ -10,7 +12,12 @@ namespace spectralize {
 
 class EdgeFilter {
  public:
-  enum class Kind { fraction, count };
+  enum class Kind { fraction, count, automatic };
+
+  /// The fractions "auto" tries, in order, until the spectrum has no edge peak.
+  static constexpr double kAutoLadder[] = {0.7, 0.8, 0.85, 0.9, 0.95, 0.98, 0.99};
+  /// Width of the edge bands at both ends of the grid that "auto" keeps free of peaks (nm).
+  static constexpr double kEdgeBandNm = 20.0;
 
   /// Drop nothing. Cost: O(1).
   EdgeFilter() = default;
@@ -18,14 +25,18 @@ class EdgeFilter {
   static EdgeFilter fraction(double f);
   /// Drop `k` partial solutions (always keeping at least one). Cost: O(1).
   static EdgeFilter count(std::size_t k);
-  /// Parses "0.7", "70%" (fractions), "1000" (a count) or "none"; throws Error. Cost: O(len).
+  /// The smallest fraction of kAutoLadder that removes the edge peaks, per colour. Cost: O(1).
+  static EdgeFilter automatic();
+  /// Parses "auto", "0.7", "70%" (fractions), "1000" (a count) or "none"; throws Error.
+  /// Cost: O(len).
   static EdgeFilter parse(std::string_view text);
 
-  /// How many of L admissible partial solutions to drop; keeps at least one. Cost: O(1).
+  /// How many of L admissible partial solutions to drop (automatic: its first ladder step);
+  /// keeps at least one. Cost: O(1).
   std::size_t drop_count(std::size_t admissible) const;
   Kind kind() const { return kind_; }
   double value() const { return value_; }
-  /// "0.7" or "1000": parseable by parse(). Cost: O(1).
+  /// "auto", "0.7" or "1000": parseable by parse(). Cost: O(1).
   std::string to_string() const;
   friend bool operator==(const EdgeFilter&, const EdgeFilter&) = default;
 

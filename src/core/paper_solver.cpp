@@ -12,9 +12,14 @@ namespace spectralize {
 namespace {
 
 // Per-thread working memory, so solve() allocates nothing in steady state.
+// The triple kernels run in float (twice the SIMD lanes); the angular decisions that select the
+// admissible triples are made in double, and the final exact projection restores double precision.
+using Real = float;
+
 struct Scratch {
   std::vector<std::size_t> order;
-  std::vector<double> angle, ux, uy, scale, cross, acc;
+  std::vector<double> angle, ux, uy, acc;
+  std::vector<Real> scale, cross;
   std::vector<std::uint32_t> upper;
   std::vector<float> max_density;
 };
@@ -29,16 +34,16 @@ Scratch& scratch() {
 struct Fan {
   std::size_t m = 0;
   const double* angle;
-  const double* cross;  // cross[p*m + q] = u_p x u_q
-  const double* scale;  // S / s_p: barycentric coordinate -> density
+  const Real* cross;  // cross[p*m + q] = u_p x u_q
+  const Real* scale;  // S / s_p: barycentric coordinate -> density
   const std::uint32_t* upper;  // first r with angle[r] >= angle[q] + pi
 };
 
 // Visits every admissible triple (p < q < r in angular order) as one call per (p, q) with the
-// contiguous range [r0, r1) of third vertices. A triangle contains the target iff no angular
-// gap between its vertices reaches pi.
-template <typename RowFn>
-void for_each_admissible_row(const Fan& f, RowFn&& row) {
+// contiguous range [r0, r1) of third vertices, and calls end_p(p) after each first vertex. A
+// triangle contains the target iff no angular gap between its vertices reaches pi.
+template <typename RowFn, typename EndFn>
+[[gnu::always_inline]] inline void for_each_admissible_row(const Fan& f, RowFn&& row, EndFn&& end_p) {
   constexpr double pi = std::numbers::pi;
   std::size_t lo = 0;
   for (std::size_t p = 0; p + 2 < f.m; ++p) {
@@ -50,68 +55,95 @@ void for_each_admissible_row(const Fan& f, RowFn&& row) {
       std::size_t r0 = std::max(lo, q + 1), r1 = f.upper[q];
       if (r0 < r1) row(p, q, r0, r1);
     }
+    end_p(p);
   }
 }
 
-// One row of triples (p, q, r in [r0, r1)): barycentric coordinates from the cross table.
-// Adds the r densities into acc and returns the p and q sums. Vectorised over r.
-inline void accumulate_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
-                           std::size_t r1, double* acc) {
-  const double* cp = f.cross + p * f.m;
-  const double* cq = f.cross + q * f.m;
-  const double* sc = f.scale;
-  const double apq = cp[q];
-  double sp = 0, sq = 0;
-#pragma omp simd reduction(+ : sp, sq)
-  for (std::size_t r = r0; r < r1; ++r) {
-    double aqr = cq[r], arp = -cp[r];
-    double inv = 1.0 / (apq + aqr + arp);
-    sp += aqr * inv;
-    sq += arp * inv;
-    acc[r] += apq * inv * sc[r];
+// Lane-wise accumulators of barycentric coordinates, so the inner loops need no horizontal
+// reductions: the p-coordinates go to a per-p row, the q-coordinates to row q of a matrix, the
+// r-coordinates to their vertex directly; everything is summed and scaled once at the end.
+struct Accumulators {
+  std::vector<Real> r_sum, p_row, q_rows, p_sum;
+  void reset(std::size_t m) {
+    r_sum.assign(m, 0);
+    p_row.assign(m, 0);
+    q_rows.assign(m * m, 0);
+    p_sum.assign(m, 0);
   }
-  acc[p] += sp * sc[p];
-  acc[q] += sq * sc[q];
+  void end_p(std::size_t p, std::size_t m) {
+    Real sum = 0;
+    for (std::size_t r = 0; r < m; ++r) sum += p_row[r], p_row[r] = 0;
+    p_sum[p] += sum;
+  }
+  // Density of vertex v: its scale times all its barycentric coordinates.
+  void finish(const Fan& f, double* out) const {
+    for (std::size_t v = 0; v < f.m; ++v) {
+      double total = static_cast<double>(r_sum[v]) + static_cast<double>(p_sum[v]);
+      const Real* row = q_rows.data() + v * f.m;
+      for (std::size_t r = 0; r < f.m; ++r) total += static_cast<double>(row[r]);
+      out[v] = total * static_cast<double>(f.scale[v]);
+    }
+  }
+};
+
+// One row of triples (p, q, r in [r0, r1)): barycentric coordinates from the cross table.
+[[gnu::always_inline]] inline void accumulate_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
+                           std::size_t r1, Accumulators& a) {
+  const Real* cp = f.cross + p * f.m;
+  const Real* cq = f.cross + q * f.m;
+  Real* pr = a.p_row.data();
+  Real* qr = a.q_rows.data() + q * f.m;
+  Real* rs = a.r_sum.data();
+  const Real apq = cp[q];
+#pragma omp simd
+  for (std::size_t r = r0; r < r1; ++r) {
+    Real aqr = cq[r], arp = -cp[r];
+    Real inv = Real(1) / (apq + aqr + arp);
+    pr[r] += aqr * inv;
+    qr[r] += arp * inv;
+    rs[r] += apq * inv;
+  }
 }
 
 // Records the largest density of each triple of the row, in visiting order.
-inline void max_density_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
+[[gnu::always_inline]] inline void max_density_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
                             std::size_t r1, float* out) {
-  const double* cp = f.cross + p * f.m;
-  const double* cq = f.cross + q * f.m;
-  const double* sc = f.scale;
-  const double apq = cp[q], sp = sc[p], sq = sc[q];
+  const Real* cp = f.cross + p * f.m;
+  const Real* cq = f.cross + q * f.m;
+  const Real* sc = f.scale;
+  const Real apq = cp[q], sp = sc[p], sq = sc[q];
 #pragma omp simd
   for (std::size_t r = r0; r < r1; ++r) {
-    double aqr = cq[r], arp = -cp[r];
-    double inv = 1.0 / (apq + aqr + arp);
-    double d = std::max(std::max(aqr * inv * sp, arp * inv * sq), apq * inv * sc[r]);
-    out[r - r0] = static_cast<float>(std::max(d, 0.0));
+    Real aqr = cq[r], arp = -cp[r];
+    Real inv = Real(1) / (apq + aqr + arp);
+    Real a = aqr * inv * sp, b = arp * inv * sq, c = apq * inv * sc[r];
+    Real d = a > b ? a : b;
+    d = d > c ? d : c;
+    out[r - r0] = d > 0 ? d : 0;
   }
 }
 
 // Like accumulate_row, but only for triples whose recorded largest density is <= cut.
-inline std::size_t accumulate_row_below(const Fan& f, std::size_t p, std::size_t q,
+[[gnu::always_inline]] inline std::size_t accumulate_row_below(const Fan& f, std::size_t p, std::size_t q,
                                         std::size_t r0, std::size_t r1, const float* md,
-                                        float cut, double* acc) {
-  const double* cp = f.cross + p * f.m;
-  const double* cq = f.cross + q * f.m;
-  const double* sc = f.scale;
-  const double apq = cp[q];
-  double sp = 0, sq = 0;
+                                        float cut, Accumulators& a) {
+  const Real* cp = f.cross + p * f.m;
+  const Real* cq = f.cross + q * f.m;
+  Real* pr = a.p_row.data();
+  Real* qr = a.q_rows.data() + q * f.m;
+  Real* rs = a.r_sum.data();
+  const Real apq = cp[q];
   std::size_t kept = 0;
-#pragma omp simd reduction(+ : sp, sq, kept)
+#pragma omp simd reduction(+ : kept)
   for (std::size_t r = r0; r < r1; ++r) {
-    double keep = md[r - r0] <= cut ? 1.0 : 0.0;
-    double aqr = cq[r], arp = -cp[r];
-    double inv = keep / (apq + aqr + arp);
-    sp += aqr * inv;
-    sq += arp * inv;
-    acc[r] += apq * inv * sc[r];
+    Real keep = md[r - r0] <= cut ? Real(1) : Real(0);
+    Real aqr = cq[r], arp = -cp[r];
+    Real inv = keep / (apq + aqr + arp);
+    pr[r] += aqr * inv;
+    qr[r] += arp * inv;
+    rs[r] += apq * inv;
     kept += md[r - r0] <= cut ? 1 : 0;
   }
-  acc[p] += sp * sc[p];
-  acc[q] += sq * sc[q];
   return kept;
 }
 
@@ -140,9 +172,74 @@ float select_kth(std::span<const float> v, std::size_t k) {
   return out;
 }
 
+// The three passes over all admissible triples, compiled for AVX-512, AVX2 and baseline x86-64
+// and picked at load time, so one binary is fast on any machine.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SPECTRALIZE_MULTIVERSION __attribute__((target_clones("avx2", "default")))
+#else
+#define SPECTRALIZE_MULTIVERSION
+#endif
+
+SPECTRALIZE_MULTIVERSION
+std::size_t sum_all(const Fan& f, Accumulators& a, double* out) {
+  std::size_t count = 0;
+  a.reset(f.m);
+  for_each_admissible_row(
+      f,
+      [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
+        accumulate_row(f, p, q, r0, r1, a);
+        count += r1 - r0;
+      },
+      [&](std::size_t p) { a.end_p(p, f.m); });
+  a.finish(f, out);
+  return count;
+}
+
+SPECTRALIZE_MULTIVERSION
+void record_max_densities(const Fan& f, std::vector<float>& out) {
+  out.clear();
+  for_each_admissible_row(
+      f,
+      [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
+        std::size_t at = out.size();
+        out.resize(at + (r1 - r0));
+        max_density_row(f, p, q, r0, r1, out.data() + at);
+      },
+      [](std::size_t) {});
+}
+
+SPECTRALIZE_MULTIVERSION
+std::size_t sum_below(const Fan& f, const float* md, float cut, Accumulators& a, double* out) {
+  std::size_t at = 0, kept = 0;
+  a.reset(f.m);
+  for_each_admissible_row(
+      f,
+      [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
+        kept += accumulate_row_below(f, p, q, r0, r1, md + at, cut, a);
+        at += r1 - r0;
+      },
+      [&](std::size_t p) { a.end_p(p, f.m); });
+  a.finish(f, out);
+  return kept;
+}
+
 }  // namespace
 
-PaperSolver::PaperSolver(std::span<const Xyz> weights) : n_(weights.size()) {
+PaperSolver::PaperSolver(std::span<const Xyz> weights, std::span<const double> wavelengths)
+    : n_(weights.size()) {
+  // Edge bands: within kEdgeBandNm of either end. Interior: 400-700 nm, or if the grid does not
+  // reach into it, everything outside the bands.
+  const double first = wavelengths.empty() ? 0 : wavelengths.front();
+  const double last = wavelengths.empty() ? 0 : wavelengths.back();
+  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
+    double nm = wavelengths[i];
+    if (nm <= first + EdgeFilter::kEdgeBandNm || nm >= last - EdgeFilter::kEdgeBandNm)
+      edge_.push_back(i);
+    if (nm >= 400 && nm <= 700) interior_.push_back(i);
+  }
+  if (interior_.empty())
+    for (std::size_t i = 0; i < wavelengths.size(); ++i)
+      if (std::find(edge_.begin(), edge_.end(), i) == edge_.end()) interior_.push_back(i);
   for (std::size_t i = 0; i < weights.size(); ++i) {
     double s = weights[i].sum();
     if (!(s > 0)) continue;  // a sample the eye (or the illuminant) does not see
@@ -178,10 +275,10 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
     s.angle[p] = raw[i];
     s.ux[p] = cx[i] - xt;
     s.uy[p] = cy[i] - yt;
-    s.scale[p] = S / ws[i];
+    s.scale[p] = static_cast<Real>(S / ws[i]);
   }
   for (std::size_t p = 0; p < m; ++p)
-    for (std::size_t q = 0; q < m; ++q) s.cross[p * m + q] = s.ux[p] * s.uy[q] - s.uy[p] * s.ux[q];
+    for (std::size_t q = 0; q < m; ++q) s.cross[p * m + q] = static_cast<Real>(s.ux[p] * s.uy[q] - s.uy[p] * s.ux[q]);
   // upper[q]: first index r whose angle reaches angle[q] + pi (monotone in q).
   std::size_t r = 0;
   for (std::size_t q = 0; q < m; ++q) {
@@ -202,14 +299,25 @@ std::size_t PaperSolver::sum_admissible(const Xyz& target, std::span<double> sum
   if (!(target.sum() > 0) || active_.size() < 3) return 0;
   Scratch& s = scratch();
   Fan f = make_fan(chroma_x_, chroma_y_, weight_sum_, target, s);
-  s.acc.assign(f.m, 0.0);
-  std::size_t count = 0;
-  for_each_admissible_row(f, [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
-    accumulate_row(f, p, q, r0, r1, s.acc.data());
-    count += r1 - r0;
-  });
+  thread_local Accumulators acc;
+  s.acc.resize(f.m);
+  std::size_t count = sum_all(f, acc, s.acc.data());
   for (std::size_t p = 0; p < f.m; ++p) sum[active_[s.order[p]]] = s.acc[p];
   return count;
+}
+
+double PaperSolver::interior_mean(std::span<const double> spectrum) const {
+  double mean = 0;
+  for (std::size_t i : interior_) mean += spectrum[i];
+  return interior_.empty() ? 0.0 : mean / static_cast<double>(interior_.size());
+}
+
+bool PaperSolver::free_of_edge_peaks(std::span<const double> spectrum) const {
+  if (interior_.empty()) return true;
+  const double mean = interior_mean(spectrum);
+  for (std::size_t i : edge_)
+    if (spectrum[i] > mean) return false;
+  return true;
 }
 
 PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) const {
@@ -221,27 +329,31 @@ PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) co
     Scratch& s = scratch();
     Fan f = make_fan(chroma_x_, chroma_y_, weight_sum_, target, s);
     // Pass 1: the largest density of every admissible triple, in visiting order.
-    s.max_density.clear();
-    for_each_admissible_row(f, [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
-      std::size_t at = s.max_density.size();
-      s.max_density.resize(at + (r1 - r0));
-      max_density_row(f, p, q, r0, r1, s.max_density.data() + at);
-    });
+    record_max_densities(f, s.max_density);
     out.admissible = s.max_density.size();
-    if (out.admissible > 0) {
+    // Fractions to try: one, or the automatic ladder until no edge peak is left.
+    std::vector<double> steps;
+    if (filter.kind() == EdgeFilter::Kind::automatic)
+      steps.assign(std::begin(EdgeFilter::kAutoLadder), std::end(EdgeFilter::kAutoLadder));
+    else
+      steps.push_back(-1);  // the filter's own count or fraction
+    thread_local Accumulators acc;
+    s.acc.resize(f.m);
+    for (std::size_t step = 0; step < steps.size() && out.admissible > 0; ++step) {
       // Keep the L - K smallest; ties at the cut are all kept.
-      std::size_t keep = out.admissible - filter.drop_count(out.admissible);
+      std::size_t drop = steps[step] < 0 ? filter.drop_count(out.admissible)
+                                         : EdgeFilter::fraction(steps[step]).drop_count(out.admissible);
+      std::size_t keep = out.admissible - drop;
       float cut = select_kth(s.max_density, keep - 1);
       // Pass 2: sum the kept triples.
-      s.acc.assign(f.m, 0.0);
-      std::size_t at = 0, kept = 0;
-      for_each_admissible_row(f, [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
-        kept += accumulate_row_below(f, p, q, r0, r1, s.max_density.data() + at, cut, s.acc.data());
-        at += r1 - r0;
-      });
+      std::size_t kept = sum_below(f, s.max_density.data(), cut, acc, s.acc.data());
       out.dropped = out.admissible - kept;
-      for (std::size_t p = 0; p < f.m; ++p) out.values[active_[s.order[p]]] = s.acc[p];
+      std::fill(out.values.begin(), out.values.end(), 0.0);
+      for (std::size_t p = 0; p < f.m; ++p)
+        out.values[active_[s.order[p]]] = s.acc[p] / static_cast<double>(kept);
+      if (free_of_edge_peaks(out.values)) break;
     }
+    return out;
   }
   std::size_t used = out.admissible - out.dropped;
   if (used > 0)

@@ -26,8 +26,20 @@ struct PaperSpectrum {
 
 class PaperSolver {
  public:
-  /// Prepares the solver for the sample weight vectors of a grid. Cost: O(N).
-  explicit PaperSolver(std::span<const Xyz> weights);
+  /// Prepares the solver for the sample weight vectors of a grid; `wavelengths` (nm, one per
+  /// sample) locate the edge bands and the 400-700 nm interior for EdgeFilter::automatic().
+  /// Cost: O(N).
+  PaperSolver(std::span<const Xyz> weights, std::span<const double> wavelengths);
+  /// As above without wavelengths: EdgeFilter::automatic() then stops at its first step.
+  /// Cost: O(N).
+  explicit PaperSolver(std::span<const Xyz> weights) : PaperSolver(weights, {}) {}
+
+  /// True when no sample in the edge bands exceeds the mean over the interior. Cost: O(N).
+  bool free_of_edge_peaks(std::span<const double> spectrum) const;
+  /// Mean of the spectrum over the interior samples (400-700 nm). Cost: O(N).
+  double interior_mean(std::span<const double> spectrum) const;
+  /// Samples within EdgeFilter::kEdgeBandNm of either end of the grid. Cost: O(1).
+  const std::vector<std::size_t>& edge_samples() const { return edge_; }
 
   /// The filtered average for `target` (any positive multiple of a colour inside the grid's
   /// spectral locus; returns admissible == 0 otherwise). Thread-safe.
@@ -40,6 +52,7 @@ class PaperSolver {
 
  private:
   std::vector<std::size_t> active_;  // samples with a non-zero weight vector
+  std::vector<std::size_t> edge_, interior_;  // samples of the edge bands / of 400-700 nm
   std::vector<double> chroma_x_, chroma_y_, weight_sum_;
   std::size_t n_;
 };

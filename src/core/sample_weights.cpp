@@ -32,10 +32,12 @@ Xyz integrate_reference(const WavelengthGrid& grid, std::span<const double> valu
 SampleWeights::SampleWeights(const WavelengthGrid& grid, const Observer& observer,
                              const Illuminant* illuminant)
     : grid_(grid), columns_(grid.size()) {
-  // Normalisation: emission by K = sum tau ybar; reflectance so that rho == 1 gives Y = 1.
+  // Emission: divide by K = sum tau ybar over the whole table (DESIGN §3). Reflectance: by the
+  // Y of rho == 1 on this grid, so the reference white has Y = 1 exactly (set below).
   norm_ = 0;
   for (std::size_t k = 0; k < ReferenceTable::kSize; ++k)
-    norm_ += ReferenceTable::trapezoid(k) * observer.cmf[1][k] * (illuminant ? illuminant->spd[k] : 1.0);
+    norm_ += ReferenceTable::trapezoid(k) * observer.cmf[1][k] * (illuminant ? 0.0 : 1.0);
+  if (illuminant) norm_ = 1.0;
 
   // Each 1 nm table point falls in one grid interval and feeds the two tents spanning it.
   for (std::size_t k = 0; k < ReferenceTable::kSize; ++k) {
@@ -56,6 +58,12 @@ SampleWeights::SampleWeights(const WavelengthGrid& grid, const Observer& observe
     columns_[i + 1] = columns_[i + 1] + t * c;
   }
   for (const Xyz& c : columns_) white_ = white_ + c;
+  if (illuminant) {
+    norm_ = white_.Y;
+    for (Xyz& c : columns_) c = (1.0 / norm_) * c;
+    white_ = Xyz{};
+    for (const Xyz& c : columns_) white_ = white_ + c;
+  }
 }
 
 Xyz SampleWeights::integrate(std::span<const double> spectrum) const {

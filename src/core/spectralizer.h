@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +64,7 @@ struct SpectrumResult {
   std::size_t admissible = 0;   // L, admissible partial solutions
   std::size_t dropped = 0;      // K, partial solutions dropped by the edge filter
   bool bounded = false;         // reflectance: the rho <= 1 fallback changed the spectrum
+  bool edge_capped = false;     // filter "auto": edge peaks the ladder left were capped exactly
   double gamut_distance = 0;    // chromaticity (xy) distance the mapping moved the colour
   std::string message;          // why the status is not ok, for people
 };
@@ -90,6 +92,9 @@ class Spectralizer {
   const Illuminant* illuminant() const { return illuminant_.get(); }
 
  private:
+  /// Upper bounds that cap the edge bands at 0.9 of the interior mean. Cost: O(N).
+  std::vector<double> edge_caps(std::span<const double> spectrum, double upper) const;
+
   SpectralizerSettings settings_;
   const Observer* observer_;
   std::unique_ptr<Illuminant> illuminant_;

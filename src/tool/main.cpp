@@ -30,8 +30,10 @@ int main(int argc, const char** argv) {
            "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
            "stays <= 1.")
       .usage("spectralize --color R,G,B [options]")
-      .add_help(true)
+      .add_help(false)  // ours prints to stdout and exits 0 even with exit_on_error(false)
       .exit_on_error(false);
+  bool help = false;
+  ap.arg("--help").help("Print this help and exit").action([&](OIIO::cspan<const char*>) { help = true; });
 
   ap.separator("Single colours:");
   ap.arg("--color R,G,B")
@@ -53,8 +55,8 @@ int main(int argc, const char** argv) {
   ap.arg("--mode MODE")
       .help("emission (lights, HDR; default) or reflectance (surfaces, rho in [0,1])")
       .action(store(opt.mode));
-  ap.arg("--wavelengths START:END:STEP")
-      .help("Sampling grid in nm inside 360..830, step >= 0.5 (default 380:780:5)")
+  ap.arg("--wavelengths GRID")
+      .help("Sampling grid START:END:STEP in nm inside 360..830, step >= 0.5 (default 380:780:5)")
       .action(store(opt.wavelengths));
   ap.arg("--observer NAME")
       .help("CIE standard observer: cie1931 (2 deg, default) or cie1964 (10 deg)")
@@ -74,6 +76,10 @@ int main(int argc, const char** argv) {
     return kExitUsage;
   }
 
+  if (help) {
+    ap.print_help();
+    return kExitOk;
+  }
   try {
     if (!opt.colors.empty()) return run_color(opt);
     std::fprintf(stderr,

@@ -1,0 +1,118 @@
+#pragma once
+// Helpers for end-to-end tests of the real spectralize binary: run it, capture its output, and
+// integrate spectra independently of the library (reading the CIE tables from data/ directly).
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace e2e {
+
+struct Run {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+/// Runs `spectralize ARGS` (ARGS already shell-quoted) with an optional environment prefix.
+inline Run run(const std::string& args, const std::string& env = "") {
+  static int counter = 0;
+  std::string base = std::string(::testing::TempDir()) + "spectralize_e2e_" +
+                     std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  std::string cmd = env + " " SPECTRALIZE_BINARY " " + args + " >" + base + ".out 2>" + base + ".err";
+  int status = std::system(cmd.c_str());
+  Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(base + ".out");
+  r.err = slurp(base + ".err");
+  std::remove((base + ".out").c_str());
+  std::remove((base + ".err").c_str());
+  return r;
+}
+
+/// A table of data/*.csv: wavelengths and the named columns, read independently of the library.
+struct Table {
+  std::vector<double> nm;
+  std::vector<std::vector<double>> cols;
+};
+
+inline Table read_table(const std::string& file, const std::vector<std::string>& names) {
+  std::ifstream f(std::string(SPECTRALIZE_DATA_DIR) + "/" + file);
+  std::string line;
+  std::getline(f, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  std::vector<std::size_t> idx;
+  for (const auto& n : names)
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == n) idx.push_back(i);
+  Table t;
+  t.cols.resize(names.size());
+  while (std::getline(f, line)) {
+    if (line.empty()) continue;
+    std::vector<double> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell.empty() ? 0 : std::stod(cell));
+    t.nm.push_back(cells[0]);
+    for (std::size_t c = 0; c < idx.size(); ++c) t.cols[c].push_back(cells[idx[c]]);
+  }
+  return t;
+}
+
+/// XYZ of the piecewise-linear spectrum (nm, values) on the 1 nm CMF table (trapezoid).
+/// Emission (no illuminant): divided by K = sum(tau * ybar) over the whole table. Reflectance
+/// (a 1 nm illuminant file on 300..830): divided by the Y of rho == 1 on the same grid, so the
+/// reference white has Y = 1 (DESIGN §3).
+struct Integrated {
+  double X, Y, Z;
+};
+
+inline Integrated integrate(const std::vector<double>& nm, const std::vector<double>& v,
+                            const std::string& cmf_file, const std::string& illuminant_file = "") {
+  Table cmf = read_table(cmf_file, {"xbar", "ybar", "zbar"});
+  Table ill;
+  if (!illuminant_file.empty()) ill = read_table(illuminant_file, {"value"});
+  double X = 0, Y = 0, Z = 0, norm = 0;
+  for (std::size_t k = 0; k < cmf.nm.size(); ++k) {
+    double l = cmf.nm[k];
+    double tau = (k == 0 || k + 1 == cmf.nm.size()) ? 0.5 : 1.0;
+    double e = 1;
+    if (!illuminant_file.empty())
+      for (std::size_t j = 0; j < ill.nm.size(); ++j)
+        if (ill.nm[j] == l) e = ill.cols[0][j];
+    double s = 0;  // linear interpolation of the samples; zero outside the grid
+    if (l >= nm.front() && l <= nm.back())
+      for (std::size_t i = 0; i + 1 < nm.size(); ++i)
+        if (l >= nm[i] && l <= nm[i + 1]) {
+          double t = (l - nm[i]) / (nm[i + 1] - nm[i]);
+          s = (1 - t) * v[i] + t * v[i + 1];
+          break;
+        }
+    X += tau * e * s * cmf.cols[0][k];
+    Y += tau * e * s * cmf.cols[1][k];
+    Z += tau * e * s * cmf.cols[2][k];
+    bool inside = l >= nm.front() && l <= nm.back();
+    norm += tau * e * cmf.cols[1][k] * (illuminant_file.empty() || inside ? 1.0 : 0.0);
+  }
+  return {X / norm, Y / norm, Z / norm};
+}
+
+inline double rel_err(Integrated a, double X, double Y, double Z) {
+  double scale = std::max({std::abs(X), std::abs(Y), std::abs(Z)});
+  return std::max({std::abs(a.X - X), std::abs(a.Y - Y), std::abs(a.Z - Z)}) / scale;
+}
+
+}  // namespace e2e
