@@ -11,6 +11,31 @@ namespace spectralize {
 
 namespace {
 
+// An allocator that leaves new floats uninitialised: the max-density buffer grows row by row
+// and every element is written right after, so zero-filling it would be wasted bandwidth.
+template <typename T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <typename U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+using FloatBuffer = std::vector<float, UninitialisedAllocator<float>>;
+
+// Half a turn of the pseudo-angle used to sort the samples around the target.
+constexpr double kHalfTurn = 2.0;
+
 // Per-thread working memory, so solve() allocates nothing in steady state.
 // The triple kernels run in float (twice the SIMD lanes); the angular decisions that select the
 // admissible triples are made in double, and the final exact projection restores double precision.
@@ -21,7 +46,9 @@ struct Scratch {
   std::vector<double> angle, ux, uy, acc;
   std::vector<Real> scale, cross;
   std::vector<std::uint32_t> upper;
-  std::vector<float> max_density;
+  FloatBuffer max_density;
+  std::vector<float> bucket;              // candidates for the cut, see CutFinder
+  std::vector<std::uint32_t> histogram;
 };
 
 Scratch& scratch() {
@@ -44,7 +71,7 @@ struct Fan {
 // triangle contains the target iff no angular gap between its vertices reaches pi.
 template <typename RowFn, typename EndFn>
 [[gnu::always_inline]] inline void for_each_admissible_row(const Fan& f, RowFn&& row, EndFn&& end_p) {
-  constexpr double pi = std::numbers::pi;
+  constexpr double pi = kHalfTurn;
   std::size_t lo = 0;
   for (std::size_t p = 0; p + 2 < f.m; ++p) {
     // Third vertices must lie strictly beyond angle[p] + pi.
@@ -64,23 +91,32 @@ template <typename RowFn, typename EndFn>
 // r-coordinates to their vertex directly; everything is summed and scaled once at the end.
 struct Accumulators {
   std::vector<Real> r_sum, p_row, q_rows, p_sum;
+  // finish() zeroes the q rows as it reads them, so only a change of size clears them here.
   void reset(std::size_t m) {
     r_sum.assign(m, 0);
     p_row.assign(m, 0);
-    q_rows.assign(m * m, 0);
+    if (q_rows.size() != m * m) q_rows.assign(m * m, 0);
     p_sum.assign(m, 0);
   }
-  void end_p(std::size_t p, std::size_t m) {
+  // Only third vertices r > p (and r > q) are ever written, so the sums start there.
+  [[gnu::always_inline]] void end_p(std::size_t p, std::size_t m) {
     Real sum = 0;
-    for (std::size_t r = 0; r < m; ++r) sum += p_row[r], p_row[r] = 0;
+    Real* row = p_row.data();
+#pragma omp simd reduction(+ : sum)
+    for (std::size_t r = p + 1; r < m; ++r) sum += row[r];
+    std::fill(row + p + 1, row + m, Real(0));
     p_sum[p] += sum;
   }
   // Density of vertex v: its scale times all its barycentric coordinates.
-  void finish(const Fan& f, double* out) const {
+  [[gnu::always_inline]] void finish(const Fan& f, double* out) {
     for (std::size_t v = 0; v < f.m; ++v) {
-      double total = static_cast<double>(r_sum[v]) + static_cast<double>(p_sum[v]);
-      const Real* row = q_rows.data() + v * f.m;
-      for (std::size_t r = 0; r < f.m; ++r) total += static_cast<double>(row[r]);
+      Real* row = q_rows.data() + v * f.m;
+      Real q_total = 0;
+#pragma omp simd reduction(+ : q_total)
+      for (std::size_t r = v + 1; r < f.m; ++r) q_total += row[r];
+      std::fill(row + v + 1, row + f.m, Real(0));
+      double total = static_cast<double>(r_sum[v]) + static_cast<double>(p_sum[v]) +
+                     static_cast<double>(q_total);
       out[v] = total * static_cast<double>(f.scale[v]);
     }
   }
@@ -147,32 +183,58 @@ struct Accumulators {
   return kept;
 }
 
-// The k-th smallest (0-based) of non-negative floats, by radix selection on their bit
-// patterns (which order like the values): three histogram passes, O(n).
-float select_kth(std::span<const float> v, std::size_t k) {
-  std::uint32_t prefix = 0, mask = 0;
-  const int shifts[3] = {21, 10, 0};
-  const int widths[3] = {11, 11, 10};
-  std::vector<std::uint32_t> hist(2048);
-  for (int pass = 0; pass < 3; ++pass) {
-    std::fill(hist.begin(), hist.end(), 0);
-    const std::uint32_t wmask = (1u << widths[pass]) - 1;
-    for (float x : v) {
-      std::uint32_t b;
-      std::memcpy(&b, &x, sizeof b);
-      if ((b & mask) == prefix) ++hist[(b >> shifts[pass]) & wmask];
+// Finds k-th smallest values (0-based) of non-negative floats: one histogram pass over the top
+// 12 bits of their bit patterns (which order like the values; 8 buckets per octave), then per
+// query one pass gathering the k-th's bucket and nth_element on that small set.
+class CutFinder {
+ public:
+  static constexpr int kShift = 20;
+  CutFinder(std::span<const float> values, std::vector<std::uint32_t>& histogram,
+            std::vector<float>& bucket)
+      : values_(values), hist_(histogram), bucket_(bucket) {
+    // Four interleaved histograms: neighbouring values often share a bucket, and one counter
+    // incremented back to back would serialise on store-to-load forwarding.
+    constexpr std::size_t buckets = std::size_t{1} << (32 - kShift);
+    hist_.assign(4 * buckets, 0);
+    const std::size_t n = values_.size(), n4 = n & ~std::size_t{3};
+    for (std::size_t i = 0; i < n4; i += 4) {
+      ++hist_[bits(values_[i]) >> kShift];
+      ++hist_[buckets + (bits(values_[i + 1]) >> kShift)];
+      ++hist_[2 * buckets + (bits(values_[i + 2]) >> kShift)];
+      ++hist_[3 * buckets + (bits(values_[i + 3]) >> kShift)];
     }
-    std::uint32_t j = 0;
-    while (k >= hist[j]) k -= hist[j++];
-    prefix |= j << shifts[pass];
-    mask |= wmask << shifts[pass];
+    for (std::size_t i = n4; i < n; ++i) ++hist_[bits(values_[i]) >> kShift];
+    for (std::size_t b = 0; b < buckets; ++b)
+      hist_[b] += hist_[buckets + b] + hist_[2 * buckets + b] + hist_[3 * buckets + b];
   }
-  float out;
-  std::memcpy(&out, &prefix, sizeof out);
-  return out;
-}
+  float kth(std::size_t k) {
+    std::uint32_t j = 0;
+    while (k >= hist_[j]) k -= hist_[j++];
+    // Branch-free gather of the bucket's members.
+    bucket_.resize(values_.size() + 1);
+    std::size_t count = 0;
+    for (float x : values_) {
+      bucket_[count] = x;
+      count += (bits(x) >> kShift) == j;
+    }
+    std::nth_element(bucket_.begin(), bucket_.begin() + static_cast<std::ptrdiff_t>(k),
+                     bucket_.begin() + static_cast<std::ptrdiff_t>(count));
+    return bucket_[k];
+  }
 
-// The three passes over all admissible triples, compiled for AVX-512, AVX2 and baseline x86-64
+ private:
+  static std::uint32_t bits(float x) {
+    std::uint32_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  }
+  std::span<const float> values_;
+  std::vector<std::uint32_t>& hist_;
+  std::vector<float>& bucket_;
+};
+
+// The three passes over all admissible triples, compiled for AVX2 and baseline x86-64 (AVX-512
+// measured slower: rows are short, ~10 triples)
 // and picked at load time, so one binary is fast on any machine.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SPECTRALIZE_MULTIVERSION __attribute__((target_clones("avx2", "default")))
@@ -196,7 +258,7 @@ std::size_t sum_all(const Fan& f, Accumulators& a, double* out) {
 }
 
 SPECTRALIZE_MULTIVERSION
-void record_max_densities(const Fan& f, std::vector<float>& out) {
+void record_max_densities(const Fan& f, FloatBuffer& out) {
   out.clear();
   for_each_admissible_row(
       f,
@@ -250,6 +312,16 @@ PaperSolver::PaperSolver(std::span<const Xyz> weights, std::span<const double> w
   }
 }
 
+// A pseudo-angle in [0, 4) of the direction (x, y): strictly increasing with the true angle,
+// and the opposite direction is exactly 2 further (mod 4), which is all the fan needs ("half a
+// turn" is 2). Much cheaper than atan2.
+static double diamond_angle(double x, double y) {
+  double l1 = std::abs(x) + std::abs(y);
+  if (l1 == 0) return 0;
+  if (y >= 0) return x >= 0 ? y / l1 : 1 - x / l1;
+  return x < 0 ? 2 - y / l1 : 3 + x / l1;
+}
+
 // Builds the fan of the samples around the target's chromaticity into the scratch.
 static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy,
                     const std::vector<double>& ws, const Xyz& target, Scratch& s) {
@@ -266,7 +338,7 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
   s.upper.resize(m);
   std::vector<double>& raw = s.acc;  // borrowed as temporary angle storage
   raw.resize(m);
-  for (std::size_t i = 0; i < m; ++i) raw[i] = std::atan2(cy[i] - yt, cx[i] - xt);
+  for (std::size_t i = 0; i < m; ++i) raw[i] = diamond_angle(cx[i] - xt, cy[i] - yt);
   std::iota(s.order.begin(), s.order.end(), std::size_t{0});
   std::sort(s.order.begin(), s.order.end(),
             [&](std::size_t a, std::size_t b) { return raw[a] < raw[b] || (raw[a] == raw[b] && a < b); });
@@ -283,7 +355,7 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
   std::size_t r = 0;
   for (std::size_t q = 0; q < m; ++q) {
     if (r < q) r = q;
-    while (r < m && s.angle[r] < s.angle[q] + std::numbers::pi) ++r;
+    while (r < m && s.angle[r] < s.angle[q] + kHalfTurn) ++r;
     s.upper[q] = static_cast<std::uint32_t>(r);
   }
   f.m = m;
@@ -339,12 +411,13 @@ PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) co
       steps.push_back(-1);  // the filter's own count or fraction
     thread_local Accumulators acc;
     s.acc.resize(f.m);
+    CutFinder cuts(s.max_density, s.histogram, s.bucket);
     for (std::size_t step = 0; step < steps.size() && out.admissible > 0; ++step) {
       // Keep the L - K smallest; ties at the cut are all kept.
       std::size_t drop = steps[step] < 0 ? filter.drop_count(out.admissible)
                                          : EdgeFilter::fraction(steps[step]).drop_count(out.admissible);
       std::size_t keep = out.admissible - drop;
-      float cut = select_kth(s.max_density, keep - 1);
+      float cut = cuts.kth(keep - 1);
       // Pass 2: sum the kept triples.
       std::size_t kept = sum_below(f, s.max_density.data(), cut, acc, s.acc.data());
       out.dropped = out.admissible - kept;

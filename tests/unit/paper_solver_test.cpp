@@ -39,6 +39,10 @@ TEST(EdgeFilter, ParsesFractionsPercentagesCountsAndNone) {
   EXPECT_EQ(n, EdgeFilter());
   EXPECT_EQ(n.drop_count(12345), 0u);
   EXPECT_EQ(EdgeFilter::parse("0").drop_count(12345), 0u);  // a count of zero drops nothing
+  EdgeFilter a = EdgeFilter::parse("auto");
+  EXPECT_EQ(a.kind(), EdgeFilter::Kind::automatic);
+  EXPECT_EQ(a, EdgeFilter::automatic());
+  EXPECT_EQ(a.drop_count(10), 7u);  // documented: its first ladder step, 0.7
 }
 
 TEST(EdgeFilter, RejectsBadTextWithTheReason) {
@@ -72,7 +76,7 @@ TEST(EdgeFilter, DropCountFloorsTheFractionAndKeepsAtLeastOne) {
 
 TEST(EdgeFilter, ToStringRoundTrips) {
   for (const EdgeFilter& f : {EdgeFilter(), EdgeFilter::fraction(0.7), EdgeFilter::fraction(0.5),
-                              EdgeFilter::count(1000), EdgeFilter::count(0)})
+                              EdgeFilter::count(1000), EdgeFilter::count(0), EdgeFilter::automatic()})
     EXPECT_EQ(EdgeFilter::parse(f.to_string()), f) << f.to_string();
 }
 
@@ -259,6 +263,51 @@ TEST(PaperSolver, CountFilterMatchesBruteForce) {
   PaperSpectrum one = solver.solve(t, EdgeFilter::count(100000000));
   EXPECT_EQ(one.admissible - one.dropped, 1u);
   EXPECT_LE(rel_err(one.values, sum_of(parts, sw.columns().size(), 1)), 1e-6);
+}
+
+TEST(PaperSolver, AutomaticFilterMatchesBruteForceLadder) {
+  // EdgeFilter::automatic(): the first fraction of kAutoLadder whose average has no sample
+  // within kEdgeBandNm of either grid end above the mean over 400-700 nm (the last step if
+  // none). Reference: the brute force at each step, with that criterion written here.
+  for (const char* gtext : {"380:780:10", "380:780:5"}) {
+    SCOPED_TRACE(gtext);
+    const WavelengthGrid grid = WavelengthGrid::parse(gtext);
+    SampleWeights sw(grid, Observer::get("cie1931"), nullptr);
+    std::vector<double> nm(grid.size());
+    for (std::size_t i = 0; i < nm.size(); ++i) nm[i] = grid[i];
+    PaperSolver solver(sw.columns(), nm);
+    auto peak_free = [&](const std::vector<double>& v) {
+      double mean = 0;
+      int count = 0;
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (nm[i] >= 400 && nm[i] <= 700) mean += v[i], ++count;
+      mean /= count;
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if ((nm[i] <= nm.front() + EdgeFilter::kEdgeBandNm || nm[i] >= nm.back() - EdgeFilter::kEdgeBandNm) &&
+            v[i] > mean)
+          return false;
+      return true;
+    };
+    // Saturated colours need deep ladder steps; 10 nm: more colours, 5 nm: two.
+    std::vector<Xyz> colours = {test::rgb(test::kRec709ToXyz, 0.882, 0.044, 0.136),
+                                test::rgb(test::kRec709ToXyz, 0.1, 0.2, 0.9)};
+    if (grid.size() < 60)
+      for (const Xyz& c : emission_colours(4, 17)) colours.push_back(c);
+    for (const Xyz& t : colours) {
+      SCOPED_TRACE(::testing::Message() << "XYZ (" << t.X << ", " << t.Y << ", " << t.Z << ")");
+      Brute ref;
+      double chosen = 0;
+      for (double f : EdgeFilter::kAutoLadder) {
+        ref = brute_force(sw.columns(), t, f);
+        chosen = f;
+        if (peak_free(ref.average)) break;
+      }
+      PaperSpectrum got = solver.solve(t, EdgeFilter::automatic());
+      EXPECT_EQ(got.admissible, ref.admissible);
+      EXPECT_EQ(got.admissible - got.dropped, ref.kept) << "ladder step " << chosen;
+      EXPECT_LE(rel_err(got.values, ref.average), 1e-6) << "ladder step " << chosen;  // as above
+    }
+  }
 }
 
 TEST(PaperSolver, ColoursOutsideTheLocusHaveNoAdmissibleSolution) {
