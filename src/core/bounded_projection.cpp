@@ -100,8 +100,8 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
     double trial_psi = 0;
     bool accepted = false;
     for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
-      Xyz step = attempt == 0 ? solve_regularised(hess, Xyz{} - grad, mu)
-                              : (-1.0 / lipschitz) * grad;
+      Xyz step =
+          attempt == 0 ? solve_regularised(hess, Xyz{} - grad, mu) : (-1.0 / lipschitz) * grad;
       double slope = dot(grad, step);
       if (!(slope < 0)) continue;
       double t = 1.0;

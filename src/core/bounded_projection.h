@@ -22,8 +22,7 @@ struct Projection {
 /// semismooth Newton method on the 3-dimensional dual (x = clamp(start + W^T nu)). Capped at
 /// 200 iterations, so it always returns. Cost: O(N) per iteration, typically 2..10 iterations.
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
-                         const Xyz& target,
-                         double upper = std::numeric_limits<double>::infinity());
+                         const Xyz& target, double upper = std::numeric_limits<double>::infinity());
 
 /// As above with a bound per sample: 0 <= x_m <= upper[m]. Cost: as above.
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,

@@ -125,7 +125,7 @@ std::vector<std::string> embedded_columns(std::string_view file) {
 }
 
 std::pair<std::vector<double>, std::vector<double>> embedded_column(std::string_view file,
-                                                                     std::string_view column) {
+                                                                    std::string_view column) {
   auto lines = lines_of(file_text(file));
   auto header = split(lines.at(0), ',');
   auto it = std::find(header.begin(), header.end(), column);
@@ -163,7 +163,9 @@ const Observer& Observer::get(std::string_view name) {
   throw Error("unknown observer '" + std::string(name) + "' (valid: " + join(names()) + ")");
 }
 
-std::vector<std::string> Observer::names() { return {"cie1931", "cie1964"}; }
+std::vector<std::string> Observer::names() {
+  return {"cie1931", "cie1964"};
+}
 
 Illuminant Illuminant::get(std::string_view name) {
   std::string n = lower(name);

@@ -17,14 +17,16 @@ struct ReferenceTable {
   /// Wavelength of table point k. Cost: O(1).
   static constexpr double wavelength(std::size_t k) { return kStartNm + static_cast<double>(k); }
   /// Trapezoid weight of table point k (1 nm, halved at both ends). Cost: O(1).
-  static constexpr double trapezoid(std::size_t k) { return (k == 0 || k == kSize - 1) ? 0.5 : 1.0; }
+  static constexpr double trapezoid(std::size_t k) {
+    return (k == 0 || k == kSize - 1) ? 0.5 : 1.0;
+  }
 };
 
 /// A CIE standard observer: colour-matching functions xbar, ybar, zbar on the reference table.
 struct Observer {
-  std::string name;                           // "cie1931" or "cie1964"
-  std::array<std::vector<double>, 3> cmf;     // xbar, ybar, zbar, ReferenceTable::kSize each
-  double y_integral = 0;                      // K = sum_k tau_k ybar_k (pbrt's CIE_Y_integral)
+  std::string name;                        // "cie1931" or "cie1964"
+  std::array<std::vector<double>, 3> cmf;  // xbar, ybar, zbar, ReferenceTable::kSize each
+  double y_integral = 0;                   // K = sum_k tau_k ybar_k (pbrt's CIE_Y_integral)
 
   /// The observer named `name` (cie1931 | cie1931_2 | cie1964 | cie1964_10, case-insensitive);
   /// throws Error listing the valid names. Parsed once and cached. Cost: O(1) after first use.
@@ -35,8 +37,8 @@ struct Observer {
 
 /// A CIE illuminant's relative spectral power on the reference table.
 struct Illuminant {
-  std::string name;          // canonical name, e.g. "D65"
-  std::vector<double> spd;   // ReferenceTable::kSize values
+  std::string name;         // canonical name, e.g. "D65"
+  std::vector<double> spd;  // ReferenceTable::kSize values
 
   /// The illuminant `name` (case-insensitive): D65, D50, A, C, E, D<cct/100> (e.g. D55, D75;
   /// daylight series from S0..S2), FL1..FL12, FL3.1..FL3.15, HP1..HP5, LED-*. Tables given only
@@ -53,7 +55,7 @@ std::vector<double> embedded_column_on_reference(std::string_view file, std::str
 
 /// Wavelengths and one column of an embedded CSV table, as stored. Cost: O(rows).
 std::pair<std::vector<double>, std::vector<double>> embedded_column(std::string_view file,
-                                                                     std::string_view column);
+                                                                    std::string_view column);
 
 /// Names of the data columns (all but wavelength_nm) of an embedded CSV table. Cost: O(cols).
 std::vector<std::string> embedded_columns(std::string_view file);

@@ -39,7 +39,8 @@ EdgeFilter EdgeFilter::parse(std::string_view text) {
   double v = 0;
   auto r = std::from_chars(num.data(), num.data() + num.size(), v);
   if (num.empty() || r.ec != std::errc() || r.ptr != num.data() + num.size() || !std::isfinite(v))
-    throw Error(quoted + "expected auto, a fraction (0.7), a percentage (70%), a count (1000) or none");
+    throw Error(quoted +
+                "expected auto, a fraction (0.7), a percentage (70%), a count (1000) or none");
   if (v < 0) throw Error(quoted + "must not be negative");
   if (percent) {
     if (v >= 100) throw Error(quoted + "a percentage must be below 100%");
@@ -53,9 +54,10 @@ EdgeFilter EdgeFilter::parse(std::string_view text) {
 
 std::size_t EdgeFilter::drop_count(std::size_t admissible) const {
   if (admissible == 0) return 0;
-  std::size_t k = (kind_ == Kind::count)
-                      ? static_cast<std::size_t>(value_)
-                      : static_cast<std::size_t>(std::floor(value_ * static_cast<double>(admissible)));
+  std::size_t k =
+      (kind_ == Kind::count)
+          ? static_cast<std::size_t>(value_)
+          : static_cast<std::size_t>(std::floor(value_ * static_cast<double>(admissible)));
   return std::min(k, admissible - 1);
 }
 

@@ -40,8 +40,10 @@ ConvexGamut ConvexGamut::spectral_locus(std::span<const Xyz> weights) {
   const double tol = 1e-12 * g.scale_;
   for_each_pair_normal(weights, [&](const Xyz& n, double pos, double neg) {
     // A facet of the cone: every generator on one side of the plane through c_i, c_j.
-    if (neg <= tol) g.normals_.push_back(Xyz{} - n), g.offsets_.push_back(0.0);
-    else if (pos <= tol) g.normals_.push_back(n), g.offsets_.push_back(0.0);
+    if (neg <= tol)
+      g.normals_.push_back(Xyz{} - n), g.offsets_.push_back(0.0);
+    else if (pos <= tol)
+      g.normals_.push_back(n), g.offsets_.push_back(0.0);
   });
   return g;
 }

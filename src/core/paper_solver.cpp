@@ -47,7 +47,7 @@ struct Scratch {
   std::vector<Real> scale, cross;
   std::vector<std::uint32_t> upper;
   FloatBuffer max_density;
-  std::vector<float> bucket;              // candidates for the cut, see CutFinder
+  std::vector<float> bucket;  // candidates for the cut, see CutFinder
   std::vector<std::uint32_t> histogram;
 };
 
@@ -61,8 +61,8 @@ Scratch& scratch() {
 struct Fan {
   std::size_t m = 0;
   const double* angle;
-  const Real* cross;  // cross[p*m + q] = u_p x u_q
-  const Real* scale;  // S / s_p: barycentric coordinate -> density
+  const Real* cross;           // cross[p*m + q] = u_p x u_q
+  const Real* scale;           // S / s_p: barycentric coordinate -> density
   const std::uint32_t* upper;  // first r with angle[r] >= angle[q] + pi
 };
 
@@ -70,7 +70,8 @@ struct Fan {
 // contiguous range [r0, r1) of third vertices, and calls end_p(p) after each first vertex. A
 // triangle contains the target iff no angular gap between its vertices reaches pi.
 template <typename RowFn, typename EndFn>
-[[gnu::always_inline]] inline void for_each_admissible_row(const Fan& f, RowFn&& row, EndFn&& end_p) {
+[[gnu::always_inline]] inline void for_each_admissible_row(const Fan& f, RowFn&& row,
+                                                           EndFn&& end_p) {
   constexpr double pi = kHalfTurn;
   std::size_t lo = 0;
   for (std::size_t p = 0; p + 2 < f.m; ++p) {
@@ -123,8 +124,8 @@ struct Accumulators {
 };
 
 // One row of triples (p, q, r in [r0, r1)): barycentric coordinates from the cross table.
-[[gnu::always_inline]] inline void accumulate_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
-                           std::size_t r1, Accumulators& a) {
+[[gnu::always_inline]] inline void accumulate_row(const Fan& f, std::size_t p, std::size_t q,
+                                                  std::size_t r0, std::size_t r1, Accumulators& a) {
   const Real* cp = f.cross + p * f.m;
   const Real* cq = f.cross + q * f.m;
   Real* pr = a.p_row.data();
@@ -142,8 +143,8 @@ struct Accumulators {
 }
 
 // Records the largest density of each triple of the row, in visiting order.
-[[gnu::always_inline]] inline void max_density_row(const Fan& f, std::size_t p, std::size_t q, std::size_t r0,
-                            std::size_t r1, float* out) {
+[[gnu::always_inline]] inline void max_density_row(const Fan& f, std::size_t p, std::size_t q,
+                                                   std::size_t r0, std::size_t r1, float* out) {
   const Real* cp = f.cross + p * f.m;
   const Real* cq = f.cross + q * f.m;
   const Real* sc = f.scale;
@@ -160,9 +161,10 @@ struct Accumulators {
 }
 
 // Like accumulate_row, but only for triples whose recorded largest density is <= cut.
-[[gnu::always_inline]] inline std::size_t accumulate_row_below(const Fan& f, std::size_t p, std::size_t q,
-                                        std::size_t r0, std::size_t r1, const float* md,
-                                        float cut, Accumulators& a) {
+[[gnu::always_inline]] inline std::size_t accumulate_row_below(const Fan& f, std::size_t p,
+                                                               std::size_t q, std::size_t r0,
+                                                               std::size_t r1, const float* md,
+                                                               float cut, Accumulators& a) {
   const Real* cp = f.cross + p * f.m;
   const Real* cq = f.cross + q * f.m;
   Real* pr = a.p_row.data();
@@ -340,8 +342,9 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
   raw.resize(m);
   for (std::size_t i = 0; i < m; ++i) raw[i] = diamond_angle(cx[i] - xt, cy[i] - yt);
   std::iota(s.order.begin(), s.order.end(), std::size_t{0});
-  std::sort(s.order.begin(), s.order.end(),
-            [&](std::size_t a, std::size_t b) { return raw[a] < raw[b] || (raw[a] == raw[b] && a < b); });
+  std::sort(s.order.begin(), s.order.end(), [&](std::size_t a, std::size_t b) {
+    return raw[a] < raw[b] || (raw[a] == raw[b] && a < b);
+  });
   for (std::size_t p = 0; p < m; ++p) {
     std::size_t i = s.order[p];
     s.angle[p] = raw[i];
@@ -350,7 +353,8 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
     s.scale[p] = static_cast<Real>(S / ws[i]);
   }
   for (std::size_t p = 0; p < m; ++p)
-    for (std::size_t q = 0; q < m; ++q) s.cross[p * m + q] = static_cast<Real>(s.ux[p] * s.uy[q] - s.uy[p] * s.ux[q]);
+    for (std::size_t q = 0; q < m; ++q)
+      s.cross[p * m + q] = static_cast<Real>(s.ux[p] * s.uy[q] - s.uy[p] * s.ux[q]);
   // upper[q]: first index r whose angle reaches angle[q] + pi (monotone in q).
   std::size_t r = 0;
   for (std::size_t q = 0; q < m; ++q) {
@@ -414,8 +418,9 @@ PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) co
     CutFinder cuts(s.max_density, s.histogram, s.bucket);
     for (std::size_t step = 0; step < steps.size() && out.admissible > 0; ++step) {
       // Keep the L - K smallest; ties at the cut are all kept.
-      std::size_t drop = steps[step] < 0 ? filter.drop_count(out.admissible)
-                                         : EdgeFilter::fraction(steps[step]).drop_count(out.admissible);
+      std::size_t drop = steps[step] < 0
+                             ? filter.drop_count(out.admissible)
+                             : EdgeFilter::fraction(steps[step]).drop_count(out.admissible);
       std::size_t keep = out.admissible - drop;
       float cut = cuts.kth(keep - 1);
       // Pass 2: sum the kept triples.

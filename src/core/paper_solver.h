@@ -19,9 +19,9 @@
 namespace spectralize {
 
 struct PaperSpectrum {
-  std::vector<double> values;   // per grid sample; the average over the kept partial solutions
-  std::size_t admissible = 0;   // L: admissible partial solutions
-  std::size_t dropped = 0;      // K actually dropped by the edge filter (ties at the cut kept)
+  std::vector<double> values;  // per grid sample; the average over the kept partial solutions
+  std::size_t admissible = 0;  // L: admissible partial solutions
+  std::size_t dropped = 0;     // K actually dropped by the edge filter (ties at the cut kept)
 };
 
 class PaperSolver {
@@ -51,7 +51,7 @@ class PaperSolver {
   std::size_t sum_admissible(const Xyz& target, std::span<double> sum) const;
 
  private:
-  std::vector<std::size_t> active_;  // samples with a non-zero weight vector
+  std::vector<std::size_t> active_;           // samples with a non-zero weight vector
   std::vector<std::size_t> edge_, interior_;  // samples of the edge bands / of 400-700 nm
   std::vector<double> chroma_x_, chroma_y_, weight_sum_;
   std::size_t n_;

@@ -28,8 +28,7 @@ class SampleWeights {
   /// Emission weights (illuminant == nullptr; normalised by K = sum tau ybar, so a constant
   /// spectrum v has Y ~= v) or reflectance weights (normalised so rho == 1 has Y = 1).
   /// Cost: O(471 + N).
-  SampleWeights(const WavelengthGrid& grid, const Observer& observer,
-                const Illuminant* illuminant);
+  SampleWeights(const WavelengthGrid& grid, const Observer& observer, const Illuminant* illuminant);
 
   /// The weight vector (X, Y, Z) of each sample. Cost: O(1).
   const std::vector<Xyz>& columns() const { return columns_; }

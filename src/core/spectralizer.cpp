@@ -50,15 +50,21 @@ Mode parse_mode(std::string_view text) {
 
 std::string_view to_string(Status status) {
   switch (status) {
-    case Status::ok: return "ok";
-    case Status::black: return "black";
-    case Status::out_of_gamut: return "out_of_gamut";
-    case Status::invalid: return "invalid";
+    case Status::ok:
+      return "ok";
+    case Status::black:
+      return "black";
+    case Status::out_of_gamut:
+      return "out_of_gamut";
+    case Status::invalid:
+      return "invalid";
   }
   return "unknown";
 }
 
-EdgeFilter default_edge_filter() { return EdgeFilter::automatic(); }
+EdgeFilter default_edge_filter() {
+  return EdgeFilter::automatic();
+}
 
 Spectralizer::Spectralizer(SpectralizerSettings settings)
     : settings_(std::move(settings)),
@@ -83,7 +89,9 @@ std::vector<double> Spectralizer::edge_caps(std::span<const double> spectrum, do
   return bounds;
 }
 
-Xyz Spectralizer::target_of(const Xyz& xyz_d65) const { return hadamard(xyz_d65, white_balance_); }
+Xyz Spectralizer::target_of(const Xyz& xyz_d65) const {
+  return hadamard(xyz_d65, white_balance_);
+}
 
 SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   SpectrumResult r;
@@ -146,7 +154,8 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   // Exact to double precision, non-negative, and <= 1 for reflectances: the closest such
   // spectrum to the paper's (a no-op polish unless the bound rho <= 1 is violated).
   const double upper = settings_.mode == Mode::reflectance ? 1.0 : INFINITY;
-  const double peak = paper.values.empty() ? 0.0 : *std::max_element(paper.values.begin(), paper.values.end());
+  const double peak =
+      paper.values.empty() ? 0.0 : *std::max_element(paper.values.begin(), paper.values.end());
   r.bounded = settings_.mode == Mode::reflectance && peak > 1.0;
   Projection proj = project_exact(weights_.columns(), paper.values, t, upper);
 

@@ -45,28 +45,28 @@ inline constexpr Xyz kWhiteD65{0.3127 / 0.3290, 1.0, 0.3583 / 0.3290};
 EdgeFilter default_edge_filter();
 
 struct SpectralizerSettings {
-  WavelengthGrid grid;                           // default 380:780:5
-  std::string observer = "cie1931";              // cie1931 | cie1964
+  WavelengthGrid grid;               // default 380:780:5
+  std::string observer = "cie1931";  // cie1931 | cie1964
   Mode mode = Mode::emission;
-  std::string illuminant = "D65";                // reference illuminant of reflectances
+  std::string illuminant = "D65";  // reference illuminant of reflectances
   EdgeFilter filter = default_edge_filter();
 };
 
 struct SpectrumResult {
-  std::vector<double> values;   // one per grid sample
+  std::vector<double> values;  // one per grid sample
   Status status = Status::ok;
-  Xyz input;                    // the XYZ given (D65-adapted, input units)
-  Xyz target;                   // what the spectrum reproduces: input (emission) or input
-                                // white-balanced to the reference illuminant (reflectance),
-                                // after gamut mapping
-  Xyz xyz;                      // W . values: the reference integration of the spectrum
-  double relative_error = 0;    // max|xyz - target| / max|target|
-  std::size_t admissible = 0;   // L, admissible partial solutions
-  std::size_t dropped = 0;      // K, partial solutions dropped by the edge filter
-  bool bounded = false;         // reflectance: the rho <= 1 fallback changed the spectrum
-  bool edge_capped = false;     // filter "auto": edge peaks the ladder left were capped exactly
-  double gamut_distance = 0;    // chromaticity (xy) distance the mapping moved the colour
-  std::string message;          // why the status is not ok, for people
+  Xyz input;                   // the XYZ given (D65-adapted, input units)
+  Xyz target;                  // what the spectrum reproduces: input (emission) or input
+                               // white-balanced to the reference illuminant (reflectance),
+                               // after gamut mapping
+  Xyz xyz;                     // W . values: the reference integration of the spectrum
+  double relative_error = 0;   // max|xyz - target| / max|target|
+  std::size_t admissible = 0;  // L, admissible partial solutions
+  std::size_t dropped = 0;     // K, partial solutions dropped by the edge filter
+  bool bounded = false;        // reflectance: the rho <= 1 fallback changed the spectrum
+  bool edge_capped = false;    // filter "auto": edge peaks the ladder left were capped exactly
+  double gamut_distance = 0;   // chromaticity (xy) distance the mapping moved the colour
+  std::string message;         // why the status is not ok, for people
 };
 
 class Spectralizer {

@@ -18,7 +18,8 @@ class WavelengthGrid {
   /// A grid from start to end inclusive; throws Error if empty, reversed, off the 1 nm tables,
   /// too fine, or if end is not start + k*step. Cost: O(1).
   WavelengthGrid(double start_nm, double end_nm, double step_nm);
-  /// Parses "start:end:step" in nm (e.g. "380:780:5"); throws Error naming the problem. Cost: O(len).
+  /// Parses "start:end:step" in nm (e.g. "380:780:5"); throws Error naming the problem. Cost:
+  /// O(len).
   static WavelengthGrid parse(std::string_view spec);
 
   /// Number of samples N. Cost: O(1).

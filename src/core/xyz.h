@@ -23,12 +23,16 @@ struct Xyz {
   bool finite() const { return std::isfinite(X) && std::isfinite(Y) && std::isfinite(Z); }
 };
 
-inline double dot(Xyz a, Xyz b) { return a.X * b.X + a.Y * b.Y + a.Z * b.Z; }
+inline double dot(Xyz a, Xyz b) {
+  return a.X * b.X + a.Y * b.Y + a.Z * b.Z;
+}
 inline Xyz cross(Xyz a, Xyz b) {
   return {a.Y * b.Z - a.Z * b.Y, a.Z * b.X - a.X * b.Z, a.X * b.Y - a.Y * b.X};
 }
 /// Componentwise product (diagonal scaling, e.g. white balance). Cost: O(1).
-inline Xyz hadamard(Xyz a, Xyz b) { return {a.X * b.X, a.Y * b.Y, a.Z * b.Z}; }
+inline Xyz hadamard(Xyz a, Xyz b) {
+  return {a.X * b.X, a.Y * b.Y, a.Z * b.Z};
+}
 
 /// Relative round-trip error max|got - want| / max|want| (0 when want is zero and got is too).
 inline double relative_error(Xyz got, Xyz want) {

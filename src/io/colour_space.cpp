@@ -34,8 +34,9 @@ std::string xyz_space_of(const ConfigPtr& config) {
     auto cs = config->getColorSpace(name);
     if (cs) return cs->getName();
   }
-  throw Error("the OCIO config has no CIE-XYZ-D65 colour space (nor a cie_xyz_d65_interchange "
-              "role) to convert into");
+  throw Error(
+      "the OCIO config has no CIE-XYZ-D65 colour space (nor a cie_xyz_d65_interchange "
+      "role) to convert into");
 }
 
 }  // namespace
@@ -95,8 +96,8 @@ std::vector<std::string> ColourSpaces::describe() const {
   std::vector<std::string> out;
   const int n = config->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL);
   for (int i = 0; i < n; ++i) {
-    const char* name = config->getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL,
-                                                        OCIO::COLORSPACE_ALL, i);
+    const char* name =
+        config->getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL, i);
     auto cs = config->getColorSpace(name);
     std::string line = name;
     if (cs && cs->getNumAliases() > 0) {

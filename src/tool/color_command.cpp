@@ -32,7 +32,8 @@ Rgb parse_rgb(const std::string& text) {
   std::size_t pos = 0;
   while (true) {
     std::size_t comma = text.find(',', pos);
-    std::string part = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    std::string part =
+        text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     // Allow surrounding spaces ("0.2, 0.5, 0.1" quoted as one argument).
     std::size_t b = part.find_first_not_of(' '), e = part.find_last_not_of(' ');
     part = b == std::string::npos ? "" : part.substr(b, e - b + 1);
@@ -42,13 +43,15 @@ Rgb parse_rgb(const std::string& text) {
     if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
       throw UsageError{fmt::format("--color '{}': '{}' is not a number", text, part)};
     if (!std::isfinite(x))
-      throw UsageError{fmt::format("--color '{}': components must be finite, got '{}'", text, part)};
+      throw UsageError{
+          fmt::format("--color '{}': components must be finite, got '{}'", text, part)};
     v.push_back(x);
     if (comma == std::string::npos) break;
     pos = comma + 1;
   }
   if (v.size() != 3)
-    throw UsageError{fmt::format("--color '{}': expected 3 components R,G,B, got {}", text, v.size())};
+    throw UsageError{
+        fmt::format("--color '{}': expected 3 components R,G,B, got {}", text, v.size())};
   return {v[0], v[1], v[2], text};
 }
 
@@ -62,7 +65,9 @@ auto flag_value(const char* flag, Fn&& fn) {
   }
 }
 
-Json xyz_json(const Xyz& v) { return Json::array({v.X, v.Y, v.Z}); }
+Json xyz_json(const Xyz& v) {
+  return Json::array({v.X, v.Y, v.Z});
+}
 
 Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& sp,
                  const SpectrumResult& r) {
@@ -100,20 +105,23 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
 int run_color(const Options& opt) {
   // Validate every flag before any work, so a mistake is reported as such (exit 2).
   if (opt.format != "csv" && opt.format != "json")
-    throw UsageError{fmt::format("--format '{}': valid formats for --color are csv, json", opt.format)};
+    throw UsageError{
+        fmt::format("--format '{}': valid formats for --color are csv, json", opt.format)};
   SpectralizerSettings settings;
   settings.mode = flag_value("--mode", [&] { return parse_mode(opt.mode); });
-  settings.grid = flag_value("--wavelengths", [&] { return WavelengthGrid::parse(opt.wavelengths); });
+  settings.grid =
+      flag_value("--wavelengths", [&] { return WavelengthGrid::parse(opt.wavelengths); });
   settings.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
-  settings.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
+  settings.illuminant =
+      flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
   if (!opt.filter.empty())
     settings.filter = flag_value("--filter", [&] { return EdgeFilter::parse(opt.filter); });
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
 
-  ColourSpaces spaces = opt.config.empty()
-                            ? ColourSpaces::load()
-                            : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  ColourSpaces spaces =
+      opt.config.empty() ? ColourSpaces::load()
+                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
   std::string space = opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
   ToXyz to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
 
@@ -128,7 +136,8 @@ int run_color(const Options& opt) {
                  "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
                  c.text, to_xyz.source(), r.message, r.gamut_distance);
     if (r.status == Status::invalid) {
-      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(), r.message);
+      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
+                 r.message);
       status = kExitFailure;
     }
   }

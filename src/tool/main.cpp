@@ -33,7 +33,9 @@ int main(int argc, const char** argv) {
       .add_help(false)  // ours prints to stdout and exits 0 even with exit_on_error(false)
       .exit_on_error(false);
   bool help = false;
-  ap.arg("--help").help("Print this help and exit").action([&](OIIO::cspan<const char*>) { help = true; });
+  ap.arg("--help").help("Print this help and exit").action([&](OIIO::cspan<const char*>) {
+    help = true;
+  });
 
   ap.separator("Single colours:");
   ap.arg("--color R,G,B")
@@ -45,7 +47,8 @@ int main(int argc, const char** argv) {
 
   ap.separator("Colour:");
   ap.arg("--colorspace NAME")
-      .help("Input colour space, a name or alias of the OCIO config (default: Linear Rec.709 (sRGB))")
+      .help(
+          "Input colour space, a name or alias of the OCIO config (default: Linear Rec.709 (sRGB))")
       .action(store(opt.colorspace));
   ap.arg("--config FILE")
       .help("OCIO config to use (default: $OCIO, else the config shipped with spectralize)")
@@ -62,11 +65,14 @@ int main(int argc, const char** argv) {
       .help("CIE standard observer: cie1931 (2 deg, default) or cie1964 (10 deg)")
       .action(store(opt.observer));
   ap.arg("--illuminant NAME")
-      .help("Reference illuminant of reflectances: D65 (default), D50, A, C, E, D<nn>, FL1..FL12, ...")
+      .help(
+          "Reference illuminant of reflectances: D65 (default), D50, A, C, E, D<nn>, FL1..FL12, "
+          "...")
       .action(store(opt.illuminant));
   ap.arg("--filter K")
-      .help("Edge-peak filter: drop the K partial solutions with the largest density; a fraction "
-            "(0.7), a percentage (70%), a count (1000) or none (default 0.7)")
+      .help(
+          "Edge-peak filter: drop the K partial solutions with the largest density; a fraction "
+          "(0.7), a percentage (70%), a count (1000) or none (default 0.7)")
       .action(store(opt.filter));
 
   if (ap.parse_args(argc, argv) < 0) {

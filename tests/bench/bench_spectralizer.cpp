@@ -67,7 +67,9 @@ struct NaiveInverses {
   }
 };
 
-WavelengthGrid grid_for(int step) { return WavelengthGrid(380, 780, step); }
+WavelengthGrid grid_for(int step) {
+  return WavelengthGrid(380, 780, step);
+}
 
 void BM_NaiveInverses(benchmark::State& state) {
   SpectralizerSettings s;
@@ -115,7 +117,10 @@ BENCHMARK(BM_NaiveInverses)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SumAdmissible)->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FullSolve)
     ->ArgNames({"step", "reflectance"})
-    ->Args({10, 0})->Args({5, 0})->Args({5, 1})->Args({1, 0})
+    ->Args({10, 0})
+    ->Args({5, 0})
+    ->Args({5, 1})
+    ->Args({1, 0})
     ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -24,7 +24,9 @@ Xyz rec709(double r, double g, double b) {
           0.01933081871559185 * r + 0.11919477979462599 * g + 0.95053215224966058 * b};
 }
 
-double srgb_decode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+double srgb_decode(double v) {
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
 
 struct Shape {
   double edge_ratio, roughness;
@@ -63,7 +65,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < colours; ++i) {
       double r = u(rng), gg = u(rng), b = u(rng);
       Shape a = shape(s.grid, sp.spectralize(rec709(r, gg, b)).values);
-      Shape e = shape(s.grid, sp.spectralize(rec709(srgb_decode(r), srgb_decode(gg), srgb_decode(b))).values);
+      Shape e = shape(
+          s.grid, sp.spectralize(rec709(srgb_decode(r), srgb_decode(gg), srgb_decode(b))).values);
       worst_lin = std::max(worst_lin, a.edge_ratio);
       worst_enc = std::max(worst_enc, e.edge_ratio);
       rough.push_back(a.roughness);

@@ -119,9 +119,9 @@ TEST(CliColor, PaperSurfaceIsAnExactBoundedReflectance) {
                          xyz[2] * white.Z / d65[2]),
             1e-5);
   // Every field of the result is in the JSON.
-  for (const char* key : {"input_rgb", "colorspace", "wavelengths", "observer", "filter", "input_xyz",
-                          "target_xyz", "xyz", "relative_error", "admissible", "dropped", "bounded",
-                          "gamut_distance"})
+  for (const char* key :
+       {"input_rgb", "colorspace", "wavelengths", "observer", "filter", "input_xyz", "target_xyz",
+        "xyz", "relative_error", "admissible", "dropped", "bounded", "gamut_distance"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_LE(j["relative_error"].get<double>(), 1e-9);
   EXPECT_GT(j["admissible"].get<long>(), 0);
@@ -231,10 +231,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"--color 1,2,3 --colorspace NotASpace", "ACEScg"},  // lists the valid names
         BadArgs{"--color 1,2", "expected 3 components"},
         BadArgs{"--color 1,2,3,4", "expected 3 components"},
-        BadArgs{"--color a,b,c", "'a' is not a number"},
-        BadArgs{"--color 1,,3", "is not a number"},
-        BadArgs{"--color nan,0,0", "finite"},
-        BadArgs{"--color inf,0,0", "finite"},
+        BadArgs{"--color a,b,c", "'a' is not a number"}, BadArgs{"--color 1,,3", "is not a number"},
+        BadArgs{"--color nan,0,0", "finite"}, BadArgs{"--color inf,0,0", "finite"},
         BadArgs{"--color 1,1,1 --wavelengths 780:380:5", "reversed"},
         BadArgs{"--color 1,1,1 --wavelengths 380:780:0", "step must be positive"},
         BadArgs{"--color 1,1,1 --wavelengths 300:780:5", "360..830"},
@@ -247,12 +245,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"--color 1,1,1 --filter x", "--filter"},
         BadArgs{"--color 1,1,1 --format xml", "--format 'xml'"},
         BadArgs{"--color 1,1,1 --config /nonexistent/config.ocio", "/nonexistent/config.ocio"},
-        BadArgs{"--color 1,1,1 --bogus", "bogus"},
-        BadArgs{"", "nothing to do"}));
+        BadArgs{"--color 1,1,1 --bogus", "bogus"}, BadArgs{"", "nothing to do"}));
 
 TEST(CliColor, ConfigComesFromOcioEnvironmentWhenSet) {
-  auto r = run("--color 0.5,0.5,0.5 --colorspace srgb_tx", "OCIO=" SPECTRALIZE_SOURCE_DIR
-               "/ocio_configs/spectralize.ocio");
+  auto r = run("--color 0.5,0.5,0.5 --colorspace srgb_tx",
+               "OCIO=" SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   r = run("--color 0.5,0.5,0.5", "OCIO=/nonexistent/x.ocio");
   EXPECT_EQ(r.exit_code, 1);

@@ -31,7 +31,8 @@ inline Run run(const std::string& args, const std::string& env = "") {
   static int counter = 0;
   std::string base = std::string(::testing::TempDir()) + "spectralize_e2e_" +
                      std::to_string(::getpid()) + "_" + std::to_string(counter++);
-  std::string cmd = env + " " SPECTRALIZE_BINARY " " + args + " >" + base + ".out 2>" + base + ".err";
+  std::string cmd =
+      env + " " SPECTRALIZE_BINARY " " + args + " >" + base + ".out 2>" + base + ".err";
   int status = std::system(cmd.c_str());
   Run r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -65,7 +66,8 @@ inline Table read_table(const std::string& file, const std::vector<std::string>&
     if (line.empty()) continue;
     std::vector<double> cells;
     std::stringstream ls(line);
-    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell.empty() ? 0 : std::stod(cell));
+    for (std::string cell; std::getline(ls, cell, ',');)
+      cells.push_back(cell.empty() ? 0 : std::stod(cell));
     t.nm.push_back(cells[0]);
     for (std::size_t c = 0; c < idx.size(); ++c) t.cols[c].push_back(cells[idx[c]]);
   }
