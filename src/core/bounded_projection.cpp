@@ -46,6 +46,41 @@ Xyz solve_regularised(const Sym3& h, const Xyz& rhs, double mu) {
 
 }  // namespace
 
+bool polish_exact(std::span<const Xyz> weights, std::span<double> spectrum, const Xyz& target) {
+  const std::size_t n = weights.size();
+  std::vector<double> x(spectrum.begin(), spectrum.end());
+  const double tol = 1e-14 * std::max(target.max_abs(), 1e-300);
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    Xyz residual = target;
+    for (std::size_t m = 0; m < n; ++m) residual = residual - x[m] * weights[m];
+    if (residual.max_abs() <= tol) break;
+    // G = sum_m x_m c_m c_m^T / s_m (symmetric): W (x * (1 + C^T a / s)) = W x + G a.
+    Sym3 g;
+    for (std::size_t m = 0; m < n; ++m) {
+      const Xyz& c = weights[m];
+      double s = c.sum();
+      if (!(s > 0) || x[m] == 0) continue;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) g.a[i][j] += x[m] * c[i] * c[j] / s;
+    }
+    double trace = g.a[0][0] + g.a[1][1] + g.a[2][2];
+    if (!(trace > 0)) return false;
+    Xyz a = solve_regularised(g, residual, 1e-15 * trace);
+    for (std::size_t m = 0; m < n; ++m) {
+      double s = weights[m].sum();
+      if (!(s > 0)) continue;
+      double factor = 1 + dot(weights[m], a) / s;
+      if (!(factor >= 0)) return false;  // too large a change to be a polish
+      x[m] *= factor;
+    }
+  }
+  Xyz residual = target;
+  for (std::size_t m = 0; m < n; ++m) residual = residual - x[m] * weights[m];
+  if (!(residual.max_abs() <= 1e-12 * std::max(target.max_abs(), 1e-300))) return false;
+  std::copy(x.begin(), x.end(), spectrum.begin());
+  return true;
+}
+
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
                          const Xyz& target, double upper) {
   std::vector<double> bounds(weights.size(), upper);

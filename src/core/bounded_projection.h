@@ -24,6 +24,12 @@ struct Projection {
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
                          const Xyz& target, double upper = std::numeric_limits<double>::infinity());
 
+/// Makes `spectrum` reproduce `target` exactly by the smallest relative change that keeps zeros
+/// at zero: x_m *= 1 + c_m.a / s_m with a from one 3x3 solve (the correction is linear in a),
+/// repeated to double precision. Returns false, leaving `spectrum` unchanged, if the correction
+/// would make a sample negative or the support spans too few directions. Cost: O(N).
+bool polish_exact(std::span<const Xyz> weights, std::span<double> spectrum, const Xyz& target);
+
 /// As above with a bound per sample: 0 <= x_m <= upper[m]. Cost: as above.
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
                          const Xyz& target, std::span<const double> upper);

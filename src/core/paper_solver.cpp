@@ -350,7 +350,7 @@ static Fan make_fan(const std::vector<double>& cx, const std::vector<double>& cy
     s.angle[p] = raw[i];
     s.ux[p] = cx[i] - xt;
     s.uy[p] = cy[i] - yt;
-    s.scale[p] = static_cast<Real>(S / ws[i]);
+    s.scale[p] = static_cast<Real>(1.0 / ws[i]);  // densities for X+Y+Z = 1; times S later
   }
   for (std::size_t p = 0; p < m; ++p)
     for (std::size_t q = 0; q < m; ++q)
@@ -378,7 +378,10 @@ std::size_t PaperSolver::sum_admissible(const Xyz& target, std::span<double> sum
   thread_local Accumulators acc;
   s.acc.resize(f.m);
   std::size_t count = sum_all(f, acc, s.acc.data());
-  for (std::size_t p = 0; p < f.m; ++p) sum[active_[s.order[p]]] = s.acc[p];
+  // The fan works on the colour scaled to X+Y+Z = 1 (so float never over- or underflows, and
+  // the result scales exactly); scale back in double.
+  const double S = target.sum();
+  for (std::size_t p = 0; p < f.m; ++p) sum[active_[s.order[p]]] = S * s.acc[p];
   return count;
 }
 
@@ -428,7 +431,7 @@ PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) co
       out.dropped = out.admissible - kept;
       std::fill(out.values.begin(), out.values.end(), 0.0);
       for (std::size_t p = 0; p < f.m; ++p)
-        out.values[active_[s.order[p]]] = s.acc[p] / static_cast<double>(kept);
+        out.values[active_[s.order[p]]] = target.sum() * s.acc[p] / static_cast<double>(kept);
       if (free_of_edge_peaks(out.values)) break;
     }
     return out;

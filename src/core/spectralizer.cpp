@@ -72,13 +72,64 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
       illuminant_(illuminant_for(settings_)),
       weights_(settings_.grid, *observer_, illuminant_.get()),
       solver_(weights_.columns(), wavelengths_of(settings_.grid)),
-      gamut_(settings_.mode == Mode::emission ? ConvexGamut::spectral_locus(weights_.columns())
+      locus_(ConvexGamut::spectral_locus(weights_.columns())),
+      gamut_(settings_.mode == Mode::emission ? locus_
                                               : ConvexGamut::reflectance_solid(weights_.columns())),
       white_balance_{1, 1, 1} {
   if (settings_.mode == Mode::reflectance) {
     Xyz ref = weights_.unit_white();
     white_balance_ = {ref.X / kWhiteD65.X, ref.Y / kWhiteD65.Y, ref.Z / kWhiteD65.Z};
   }
+}
+
+Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const {
+  const bool reflectance = settings_.mode == Mode::reflectance;
+  if (gamut_.contains(requested)) return requested;
+  r.status = Status::out_of_gamut;
+  Xyz t = requested;
+  std::string what;
+  // Moves t toward `anchor` (inside) until it is inside `gamut`, a hair short of the boundary.
+  auto move_toward = [&](const ConvexGamut& gamut, const Xyz& anchor) {
+    if (gamut.contains(t)) return;
+    double s = std::max(0.0, gamut.max_step(anchor, t) - kGamutMargin);
+    t = anchor + s * (t - anchor);
+  };
+  // 1. Chromaticity outside the spectral locus: toward the white at the same luminance. The
+  //    white is D65 (reflectance: the reference white), or if a narrow grid cannot make D65,
+  //    the colour of the flat spectrum, which every grid can.
+  if (!locus_.contains(t)) {
+    Xyz white = reflectance ? weights_.unit_white() : kWhiteD65;
+    if (!locus_.contains(white)) white = weights_.unit_white();
+    move_toward(locus_, (t.Y / white.Y) * white);
+    what = "outside the spectral locus: desaturated toward white at constant luminance";
+  }
+  if (reflectance && !gamut_.contains(t)) {
+    // 2. Brighter than any reflectance of its chromaticity and Y > 1: dimmed toward black,
+    //    which keeps the hue (a bright red stays red rather than turning white).
+    if (t.Y > 1) {
+      move_toward(gamut_, Xyz{});
+      what += std::string(what.empty() ? "" : "; ") +
+              "brighter than any reflectance (Y > 1): dimmed at constant chromaticity";
+    }
+    // 3. Too saturated for a reflectance of its luminance: toward white at constant Y.
+    if (!gamut_.contains(t)) {
+      move_toward(gamut_, t.Y * weights_.unit_white());
+      what += std::string(what.empty() ? "" : "; ") +
+              "outside the reflectance solid: desaturated toward the reference white at "
+              "constant luminance";
+    }
+  }
+  r.gamut_distance = chromaticity_distance(requested, t);
+  r.message = "colour is " + what;
+  if (requested.Y > 0 && !(t.Y > 0)) r.message = "colour has zero luminance: mapped to black";
+  if (requested.Y == 0) r.message = "colour is not black but has zero luminance: mapped to black";
+  // A move below float precision (e.g. white through OCIO's float maths landing a hair
+  // outside the solid's white vertex) is rounding, not an out-of-gamut colour.
+  if (relative_error(t, requested) <= kSnapTolerance) {
+    r.status = Status::ok;
+    r.message.clear();
+  }
+  return t;
 }
 
 std::vector<double> Spectralizer::edge_caps(std::span<const double> spectrum, double upper) const {
@@ -118,31 +169,25 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
     return r;
   }
 
-  // Map out-of-gamut colours toward the white of the same luminance (reflectance: first
-  // down to Y = 1, the brightest a reflectance can be).
+  // Map out-of-gamut colours into the gamut (see map_into_gamut for the rule).
   const Xyz requested = t;
-  if (!gamut_.contains(t)) {
-    r.status = Status::out_of_gamut;
-    if (settings_.mode == Mode::reflectance && t.Y > 1) t = (1.0 / t.Y) * t;
-    Xyz white = settings_.mode == Mode::reflectance ? t.Y * weights_.unit_white() : t.Y * kWhiteD65;
-    double s = gamut_.max_step(white, t);
-    if (!gamut_.contains(t)) s = std::max(0.0, s - kGamutMargin);
-    t = white + s * (t - white);
-    r.gamut_distance = chromaticity_distance(requested, t);
-    r.message = settings_.mode == Mode::emission
-                    ? "colour is outside the spectral locus of the grid; desaturated toward D65"
-                    : "colour is outside the reflectance solid; desaturated toward the "
-                      "reference white (and dimmed to Y <= 1)";
-    // A move below float precision (e.g. white through OCIO's float maths landing a hair
-    // outside the solid's white vertex) is rounding, not an out-of-gamut colour.
-    if (relative_error(t, requested) <= kSnapTolerance) {
-      r.status = Status::ok;
-      r.message.clear();
-    }
-  }
+  t = map_into_gamut(t, r);
   r.target = t;
-  if (!(t.Y > 0)) {  // a non-zero colour of zero luminance maps to black: only black has Y = 0
+  if (!(t.Y > 0)) {  // only black has Y = 0: a non-zero colour of zero luminance maps to it
     r.target = Xyz{};
+    return r;
+  }
+
+  // A reflectance white (within float precision) is the perfect reflector, exactly: near that
+  // vertex of the solid the projection pins XYZ but not the samples the eye barely sees.
+  if (settings_.mode == Mode::reflectance &&
+      relative_error(requested, weights_.unit_white()) <= kSnapTolerance) {
+    r.values.assign(n, 1.0);
+    r.target = weights_.unit_white();
+    r.xyz = weights_.integrate(r.values);
+    r.relative_error = relative_error(r.xyz, r.target);
+    r.status = Status::ok;
+    r.message.clear();
     return r;
   }
 
@@ -151,13 +196,17 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   r.admissible = paper.admissible;
   r.dropped = paper.dropped;
 
-  // Exact to double precision, non-negative, and <= 1 for reflectances: the closest such
-  // spectrum to the paper's (a no-op polish unless the bound rho <= 1 is violated).
+  // Exact to double precision: the paper's average is exact in exact arithmetic, so a tiny
+  // relative polish suffices. If that fails, or a reflectance exceeds 1, the fallback is the
+  // closest spectrum that is exact, non-negative and <= 1 (bounded projection).
   const double upper = settings_.mode == Mode::reflectance ? 1.0 : INFINITY;
-  const double peak =
-      paper.values.empty() ? 0.0 : *std::max_element(paper.values.begin(), paper.values.end());
+  Projection proj;
+  proj.values = paper.values;
+  proj.converged = polish_exact(weights_.columns(), proj.values, t);
+  const double peak = *std::max_element(proj.values.begin(), proj.values.end());
   r.bounded = settings_.mode == Mode::reflectance && peak > 1.0;
-  Projection proj = project_exact(weights_.columns(), paper.values, t, upper);
+  if (!proj.converged || peak > upper)
+    proj = project_exact(weights_.columns(), paper.values, t, upper);
 
   // Filter "auto": if even the ladder's last step leaves an edge peak (saturated colours that
   // need light near an end of the range), cap the edge bands below the interior mean by the
@@ -174,7 +223,7 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   r.values = std::move(proj.values);
   r.xyz = weights_.integrate(r.values);
   r.relative_error = relative_error(r.xyz, t);
-  if (!proj.converged && r.relative_error > 1e-9) {
+  if (!proj.converged && !(r.relative_error <= 1e-9)) {
     r.message += (r.message.empty() ? "" : "; ") +
                  std::string("the exact solver did not converge (relative error reported)");
   }

@@ -92,6 +92,10 @@ class Spectralizer {
   const Illuminant* illuminant() const { return illuminant_.get(); }
 
  private:
+  /// Moves an out-of-gamut target inside and records status, distance and message in `r`:
+  /// outside the locus toward white at constant Y; reflectance with Y > 1 toward black (keeps the
+  /// chromaticity); still outside the solid toward white at constant Y. Cost: O(facets).
+  Xyz map_into_gamut(const Xyz& target, SpectrumResult& r) const;
   /// Upper bounds that cap the edge bands at 0.9 of the interior mean. Cost: O(N).
   std::vector<double> edge_caps(std::span<const double> spectrum, double upper) const;
 
@@ -100,7 +104,8 @@ class Spectralizer {
   std::unique_ptr<Illuminant> illuminant_;
   SampleWeights weights_;
   PaperSolver solver_;
-  ConvexGamut gamut_;
+  ConvexGamut locus_;  // the cone of the weights: chromaticities any spectrum can have
+  ConvexGamut gamut_;  // emission: the locus; reflectance: the solid
   Xyz white_balance_;  // W_ref / W_D65 per component (reflectance), else (1, 1, 1)
 };
 

@@ -60,23 +60,24 @@ TEST(EdgeFilter, RejectsBadTextWithTheReason) {
 
 TEST(EdgeFilter, DropCountFloorsTheFractionAndKeepsAtLeastOne) {
   const EdgeFilter f = EdgeFilter::fraction(0.7);
-  EXPECT_EQ(f.drop_count(10), 7u);       // floor(7.0)
+  EXPECT_EQ(f.drop_count(10), 7u);  // floor(7.0)
   EXPECT_EQ(f.drop_count(1000), 700u);
-  EXPECT_EQ(f.drop_count(3), 2u);        // floor(2.1)
-  EXPECT_EQ(f.drop_count(1), 0u);        // the only solution is kept
+  EXPECT_EQ(f.drop_count(3), 2u);  // floor(2.1)
+  EXPECT_EQ(f.drop_count(1), 0u);  // the only solution is kept
   EXPECT_EQ(f.drop_count(0), 0u);
   EXPECT_EQ(EdgeFilter::fraction(0.999).drop_count(2), 1u);  // floor(1.998) = 1, keeps 1
   const EdgeFilter c = EdgeFilter::count(1000);
   EXPECT_EQ(c.drop_count(5000), 1000u);
-  EXPECT_EQ(c.drop_count(1000), 999u);   // would drop all: keeps one
+  EXPECT_EQ(c.drop_count(1000), 999u);  // would drop all: keeps one
   EXPECT_EQ(c.drop_count(10), 9u);
   EXPECT_EQ(c.drop_count(1), 0u);
   EXPECT_EQ(c.drop_count(0), 0u);
 }
 
 TEST(EdgeFilter, ToStringRoundTrips) {
-  for (const EdgeFilter& f : {EdgeFilter(), EdgeFilter::fraction(0.7), EdgeFilter::fraction(0.5),
-                              EdgeFilter::count(1000), EdgeFilter::count(0), EdgeFilter::automatic()})
+  for (const EdgeFilter& f :
+       {EdgeFilter(), EdgeFilter::fraction(0.7), EdgeFilter::fraction(0.5), EdgeFilter::count(1000),
+        EdgeFilter::count(0), EdgeFilter::automatic()})
     EXPECT_EQ(EdgeFilter::parse(f.to_string()), f) << f.to_string();
 }
 
@@ -128,7 +129,8 @@ Brute brute_force(const std::vector<Xyz>& c, const Xyz& t, double drop_fraction)
   Brute b;
   b.admissible = parts.size();
   b.sum = sum_of(parts, c.size(), parts.size());
-  std::size_t drop = static_cast<std::size_t>(std::floor(drop_fraction * static_cast<double>(parts.size())));
+  std::size_t drop =
+      static_cast<std::size_t>(std::floor(drop_fraction * static_cast<double>(parts.size())));
   if (parts.size() > 0 && drop >= parts.size()) drop = parts.size() - 1;
   b.kept = parts.size() - drop;
   std::sort(parts.begin(), parts.end(),
@@ -165,7 +167,8 @@ void compare_with_brute_force(const std::vector<Xyz>& w, const std::vector<Xyz>&
   const std::size_t n = w.size();
   for (std::size_t ci = 0; ci < targets.size(); ++ci) {
     const Xyz& t = targets[ci];
-    SCOPED_TRACE(::testing::Message() << "colour " << ci << " XYZ (" << t.X << ", " << t.Y << ", " << t.Z << ")");
+    SCOPED_TRACE(::testing::Message()
+                 << "colour " << ci << " XYZ (" << t.X << ", " << t.Y << ", " << t.Z << ")");
     const Brute ref = brute_force(w, t, 0.7);
     ASSERT_GT(ref.admissible, 0u);
 
@@ -179,7 +182,8 @@ void compare_with_brute_force(const std::vector<Xyz>& w, const std::vector<Xyz>&
         << "solver L " << L << " brute L " << ref.admissible;
     EXPECT_LE(rel_err(sum, ref.sum), 1e-6);
     worst.sum = std::max(worst.sum, rel_err(sum, ref.sum));
-    worst.dl = std::max(worst.dl, std::abs(static_cast<long>(L) - static_cast<long>(ref.admissible)));
+    worst.dl =
+        std::max(worst.dl, std::abs(static_cast<long>(L) - static_cast<long>(ref.admissible)));
 
     // solve() without a filter is the plain average.
     PaperSpectrum plain = solver.solve(t, EdgeFilter());
@@ -206,8 +210,8 @@ void compare_with_brute_force(const std::vector<Xyz>& w, const std::vector<Xyz>&
     worst.filtered = std::max(worst.filtered, rel_err(filt.values, ref.average));
     for (double v : filt.values) EXPECT_GE(v, 0.0);  // an average of non-negative solutions
   }
-  std::printf("  worst vs brute force: |dL| %ld, sum %.2e, filtered %.2e, exactness %.2e\n", worst.dl,
-              worst.sum, worst.filtered, worst.exact);
+  std::printf("  worst vs brute force: |dL| %ld, sum %.2e, filtered %.2e, exactness %.2e\n",
+              worst.dl, worst.sum, worst.filtered, worst.exact);
 }
 
 TEST(PaperSolver, MatchesBruteForceAt10nmEmission) {
@@ -283,7 +287,8 @@ TEST(PaperSolver, AutomaticFilterMatchesBruteForceLadder) {
         if (nm[i] >= 400 && nm[i] <= 700) mean += v[i], ++count;
       mean /= count;
       for (std::size_t i = 0; i < v.size(); ++i)
-        if ((nm[i] <= nm.front() + EdgeFilter::kEdgeBandNm || nm[i] >= nm.back() - EdgeFilter::kEdgeBandNm) &&
+        if ((nm[i] <= nm.front() + EdgeFilter::kEdgeBandNm ||
+             nm[i] >= nm.back() - EdgeFilter::kEdgeBandNm) &&
             v[i] > mean)
           return false;
       return true;
@@ -314,10 +319,10 @@ TEST(PaperSolver, ColoursOutsideTheLocusHaveNoAdmissibleSolution) {
   SampleWeights sw(WavelengthGrid::parse("380:780:10"), Observer::get("cie1931"), nullptr);
   PaperSolver solver(sw.columns());
   const std::vector<Xyz> outside = {
-      {-0.1, 1.0, 0.1},                   // negative X: no non-negative spectrum makes it
-      test::xyz_from_xy(0.3, 0.75, 1.0),  // above the spectral locus (y(550 nm) = 0.69)
-      test::xyz_from_xy(0.05, 0.05, 0.2), // left of the blue corner of the locus
-      {0.5, -0.1, 0.5},                   // negative luminance
+      {-0.1, 1.0, 0.1},                    // negative X: no non-negative spectrum makes it
+      test::xyz_from_xy(0.3, 0.75, 1.0),   // above the spectral locus (y(550 nm) = 0.69)
+      test::xyz_from_xy(0.05, 0.05, 0.2),  // left of the blue corner of the locus
+      {0.5, -0.1, 0.5},                    // negative luminance
   };
   for (const Xyz& t : outside) {
     SCOPED_TRACE(::testing::Message() << "XYZ (" << t.X << ", " << t.Y << ", " << t.Z << ")");

@@ -26,7 +26,9 @@ using test::reference_xyz;
 using test::rel_err;
 
 // Index of wavelength `nm` on the 1 nm reference table.
-std::size_t at(int nm) { return static_cast<std::size_t>(nm - 360); }
+std::size_t at(int nm) {
+  return static_cast<std::size_t>(nm - 360);
+}
 
 // XYZ of an illuminant itself (a light with that SPD), integrated on the full 1 nm table.
 Xyz illuminant_xyz(const Observer& obs, const Illuminant& il) {
@@ -47,11 +49,11 @@ TEST(Observer, LoadsBothStandardObserversOnThe1nmTable) {
   EXPECT_EQ(o10.name, "cie1964");
   for (const Observer* o : {&o2, &o10})
     for (const auto& c : o->cmf) {
-      ASSERT_EQ(c.size(), 471u);  // 360..830 nm at 1 nm
+      ASSERT_EQ(c.size(), 471u);             // 360..830 nm at 1 nm
       for (double v : c) EXPECT_GE(v, 0.0);  // colour-matching functions are non-negative
     }
   // Published CIE table values (CIE 015:2018 tables; exact in the data, so 1e-12).
-  EXPECT_NEAR(o2.cmf[1][at(555)], 1.0, 1e-12);       // ybar peaks at 555 nm with value 1
+  EXPECT_NEAR(o2.cmf[1][at(555)], 1.0, 1e-12);  // ybar peaks at 555 nm with value 1
   EXPECT_NEAR(o2.cmf[0][at(600)], 1.0622, 1e-12);
   EXPECT_NEAR(o2.cmf[2][at(445)], 1.7826, 1e-12);
   EXPECT_NEAR(o10.cmf[1][at(555)], 0.99911, 1e-12);
@@ -149,8 +151,8 @@ TEST(SampleWeights, PiecewiseLinearInterpolatesAndIsZeroOutside) {
 
 TEST(SampleWeights, WeightsReproduceTheReferenceIntegration) {
   // 400:701:7 stands in for the brief's 400:700:7, which is not a grid (300/7 steps).
-  const char* grids[] = {"380:780:5", "380:780:10", "360:830:1", "400:701:7", "380.5:779.5:3",
-                         "380:780:0.5"};
+  const char* grids[] = {"380:780:5", "380:780:10",    "360:830:1",
+                         "400:701:7", "380.5:779.5:3", "380:780:0.5"};
   std::mt19937 rng(20240611);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   for (const char* gtext : grids) {

@@ -60,7 +60,9 @@ inline Mat3 inverse(const Mat3& m) {
 }
 
 /// m . (r, g, b): the XYZ of an RGB colour.
-inline Xyz rgb(const Mat3& m, double r, double g, double b) { return mul(m, Xyz{r, g, b}); }
+inline Xyz rgb(const Mat3& m, double r, double g, double b) {
+  return mul(m, Xyz{r, g, b});
+}
 
 /// XYZ of chromaticity (x, y) at luminance Y.
 inline Xyz xyz_from_xy(double x, double y, double Y = 1.0) {
@@ -68,17 +70,21 @@ inline Xyz xyz_from_xy(double x, double y, double Y = 1.0) {
 }
 
 /// Linear Rec.709 (sRGB primaries, D65) -> CIE XYZ.
-inline constexpr Mat3 kRec709ToXyz = {{{0.41239079926595948, 0.35758433938387796, 0.18048078840183429},
-                                       {0.21263900587151036, 0.71516867876775593, 0.07219231536073372},
-                                       {0.01933081871559185, 0.11919477979462599, 0.95053215224966058}}};
+inline constexpr Mat3 kRec709ToXyz = {
+    {{0.41239079926595948, 0.35758433938387796, 0.18048078840183429},
+     {0.21263900587151036, 0.71516867876775593, 0.07219231536073372},
+     {0.01933081871559185, 0.11919477979462599, 0.95053215224966058}}};
 
 /// Linear Rec.2020 (D65) -> CIE XYZ.
-inline constexpr Mat3 kRec2020ToXyz = {{{0.63695804830129129, 0.14461690358620837, 0.16888097516417206},
-                                        {0.26270021201126703, 0.67799807151887102, 0.05930171646986195},
-                                        {0.0, 0.02807269304908751, 1.06098505771079091}}};
+inline constexpr Mat3 kRec2020ToXyz = {
+    {{0.63695804830129129, 0.14461690358620837, 0.16888097516417206},
+     {0.26270021201126703, 0.67799807151887102, 0.05930171646986195},
+     {0.0, 0.02807269304908751, 1.06098505771079091}}};
 
 /// The D65 white of the OCIO config, Y = 1.
-inline Xyz d65_white() { return xyz_from_xy(0.3127, 0.3290); }
+inline Xyz d65_white() {
+  return xyz_from_xy(0.3127, 0.3290);
+}
 
 /// RGB -> XYZ of a space from its primaries and white (the normalised primary matrix).
 inline Mat3 rgb_to_xyz(double xr, double yr, double xg, double yg, double xb, double yb, double xw,
@@ -94,7 +100,8 @@ inline Mat3 rgb_to_xyz(double xr, double yr, double xg, double yg, double xb, do
 
 /// Bradford chromatic adaptation from white `from` to white `to` (both XYZ).
 inline Mat3 bradford(const Xyz& from, const Xyz& to) {
-  const Mat3 b = {{{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
+  const Mat3 b = {
+      {{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
   const Xyz cf = mul(b, from), ct = mul(b, to);
   const Mat3 d = {{{ct.X / cf.X, 0, 0}, {0, ct.Y / cf.Y, 0}, {0, 0, ct.Z / cf.Z}}};
   return matmul(inverse(b), matmul(d, b));
@@ -110,7 +117,8 @@ inline Mat3 acescg_to_xyz_d65() {
 
 /// Value at `nm` of the piecewise-linear spectrum through `values` at start + i*step, zero
 /// outside [start, start + (n-1) step] (a table point within 1e-9 nm of an end counts as on it).
-inline double linear_spectrum(double start, double step, std::span<const double> values, double nm) {
+inline double linear_spectrum(double start, double step, std::span<const double> values,
+                              double nm) {
   const std::size_t n = values.size();
   const double end = start + static_cast<double>(n - 1) * step;
   if (nm < start - 1e-9 || nm > end + 1e-9) return 0.0;
@@ -124,13 +132,14 @@ inline double linear_spectrum(double start, double step, std::span<const double>
 
 /// Un-normalised trapezoid sums over 360..830 nm at 1 nm of cmf * E * spectrum (E == nullptr:
 /// emission). `values` are on the grid (start, step).
-inline Xyz raw_integral(double start, double step, std::span<const double> values, const Observer& obs,
-                        const std::vector<double>* illuminant) {
+inline Xyz raw_integral(double start, double step, std::span<const double> values,
+                        const Observer& obs, const std::vector<double>* illuminant) {
   Xyz s;
   for (int nm = 360; nm <= 830; ++nm) {
     const std::size_t k = static_cast<std::size_t>(nm - 360);
     const double tau = (nm == 360 || nm == 830) ? 0.5 : 1.0;
-    const double v = linear_spectrum(start, step, values, nm) * (illuminant ? (*illuminant)[k] : 1.0);
+    const double v =
+        linear_spectrum(start, step, values, nm) * (illuminant ? (*illuminant)[k] : 1.0);
     s.X += tau * v * obs.cmf[0][k];
     s.Y += tau * v * obs.cmf[1][k];
     s.Z += tau * v * obs.cmf[2][k];
@@ -156,15 +165,17 @@ inline double reference_norm(const WavelengthGrid& grid, const Observer& obs,
 }
 
 /// Normalised XYZ of a spectrum on `grid` (emission when illuminant == nullptr).
-inline Xyz reference_xyz(const WavelengthGrid& grid, std::span<const double> values, const Observer& obs,
-                         const std::vector<double>* illuminant) {
+inline Xyz reference_xyz(const WavelengthGrid& grid, std::span<const double> values,
+                         const Observer& obs, const std::vector<double>* illuminant) {
   EXPECT_EQ(values.size(), grid.size());
   return (1.0 / reference_norm(grid, obs, illuminant)) *
          raw_integral(grid.start(), grid.step(), values, obs, illuminant);
 }
 
 /// Chromaticity (x, y) of an XYZ.
-inline std::array<double, 2> chromaticity(const Xyz& c) { return {c.X / c.sum(), c.Y / c.sum()}; }
+inline std::array<double, 2> chromaticity(const Xyz& c) {
+  return {c.X / c.sum(), c.Y / c.sum()};
+}
 
 /// max |a - b| / max |b| (componentwise).
 inline double rel_err(const Xyz& a, const Xyz& b) {
@@ -190,7 +201,8 @@ void expect_error_mentioning(Fn&& fn, std::vector<std::string> words, const std:
   } catch (const Error& e) {
     const std::string msg = e.what();
     for (const auto& w : words)
-      EXPECT_NE(msg.find(w), std::string::npos) << what << ": message '" << msg << "' lacks '" << w << "'";
+      EXPECT_NE(msg.find(w), std::string::npos)
+          << what << ": message '" << msg << "' lacks '" << w << "'";
   } catch (const std::exception& e) {
     ADD_FAILURE() << what << ": threw a non-spectralize exception: " << e.what();
   }

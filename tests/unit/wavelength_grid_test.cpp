@@ -29,9 +29,9 @@ TEST(WavelengthGrid, ParsesValidGrids) {
     std::size_t size;
     double start, end, step;
   } cases[] = {
-      {"400:700:10", 31, 400, 700, 10},     {"360:830:0.5", 941, 360, 830, 0.5},
-      {"360:830:1", 471, 360, 830, 1},      {"380.5:779.5:3", 134, 380.5, 779.5, 3},
-      {"380:780:0.5", 801, 380, 780, 0.5},  {"400:410:5", 3, 400, 410, 5},
+      {"400:700:10", 31, 400, 700, 10},    {"360:830:0.5", 941, 360, 830, 0.5},
+      {"360:830:1", 471, 360, 830, 1},     {"380.5:779.5:3", 134, 380.5, 779.5, 3},
+      {"380:780:0.5", 801, 380, 780, 0.5}, {"400:410:5", 3, 400, 410, 5},
       {"400:701:7", 44, 400, 701, 7},
   };
   for (const auto& c : cases) {
@@ -71,7 +71,8 @@ TEST(WavelengthGrid, RejectsBadGridsWithTheReason) {
 }
 
 TEST(WavelengthGrid, ToStringRoundTrips) {
-  for (const char* text : {"380:780:5", "400:700:10", "360:830:0.5", "380.5:779.5:3", "400:701:7"}) {
+  for (const char* text :
+       {"380:780:5", "400:700:10", "360:830:0.5", "380.5:779.5:3", "400:701:7"}) {
     SCOPED_TRACE(text);
     WavelengthGrid g = WavelengthGrid::parse(text);
     // These inputs are already in the shortest form, so the text itself must come back.
