@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0, 1);
     double worst_lin = 0, worst_enc = 0;
+    int capped = 0;
     std::vector<double> rough;
     for (int i = 0; i < colours; ++i) {
       double r = u(rng), gg = u(rng), b = u(rng);
@@ -75,5 +76,8 @@ int main(int argc, char** argv) {
     std::string label = f < 0 ? std::string("auto") : std::to_string(f).substr(0, 4);
     std::printf("%-8s %-14.3f %-16.3f %-16.3f %-18.3f %-14.3f\n", label.c_str(), light.edge_ratio,
                 worst_lin, worst_enc, rough[rough.size() / 2], light.roughness);
+    if (f < 0)
+      std::printf("auto: %d of %d colours needed the exact edge cap after the ladder\n", capped,
+                  2 * colours);
   }
 }
