@@ -89,6 +89,7 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
   j["admissible"] = r.admissible;
   j["dropped"] = r.dropped;
   j["bounded"] = r.bounded;
+  j["edge_capped"] = r.edge_capped;
   j["gamut_distance"] = r.gamut_distance;
   Json wl = Json::array(), values = Json::array();
   for (std::size_t i = 0; i < s.grid.size(); ++i) {

@@ -119,9 +119,9 @@ TEST(CliColor, PaperSurfaceIsAnExactBoundedReflectance) {
                          xyz[2] * white.Z / d65[2]),
             1e-5);
   // Every field of the result is in the JSON.
-  for (const char* key :
-       {"input_rgb", "colorspace", "wavelengths", "observer", "filter", "input_xyz", "target_xyz",
-        "xyz", "relative_error", "admissible", "dropped", "bounded", "gamut_distance"})
+  for (const char* key : {"input_rgb", "colorspace", "wavelengths", "observer", "filter",
+                          "input_xyz", "target_xyz", "xyz", "relative_error", "admissible",
+                          "dropped", "bounded", "edge_capped", "gamut_distance"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_LE(j["relative_error"].get<double>(), 1e-9);
   EXPECT_GT(j["admissible"].get<long>(), 0);
