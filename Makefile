@@ -25,11 +25,13 @@ demo: deps build
 bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
 
+SOURCES = $(shell find src tests oiio_plugin -name '*.cpp' -o -name '*.h' 2>/dev/null)
+
 format:
-	@find src tests oiio_plugin -name '*.cpp' -o -name '*.h' | xargs clang-format -i
+	@clang-format -i $(SOURCES)
 
 format-check:
-	@find src tests oiio_plugin -name '*.cpp' -o -name '*.h' | xargs clang-format --dry-run --Werror
+	@clang-format --dry-run --Werror $(SOURCES)
 
 clean:
 	@rm -rf $(BUILD_DIR)

@@ -123,22 +123,41 @@ struct Accumulators {
   }
 };
 
-// One row of triples (p, q, r in [r0, r1)): barycentric coordinates from the cross table.
-[[gnu::always_inline]] inline void accumulate_row(const Fan& f, std::size_t p, std::size_t q,
-                                                  std::size_t r0, std::size_t r1, Accumulators& a) {
+// One row of triples (p, q, r in [r0, r1)): barycentric coordinates from the cross table,
+// added to the accumulators. Filtered: only triples whose recorded largest density md[r - r0]
+// is <= cut. Returns how many triples were added.
+template <bool kFiltered>
+[[gnu::always_inline]] inline std::size_t accumulate_row(const Fan& f, std::size_t p, std::size_t q,
+                                                         std::size_t r0, std::size_t r1,
+                                                         Accumulators& a, const float* md = nullptr,
+                                                         float cut = 0) {
   const Real* cp = f.cross + p * f.m;
   const Real* cq = f.cross + q * f.m;
   Real* pr = a.p_row.data();
   Real* qr = a.q_rows.data() + q * f.m;
   Real* rs = a.r_sum.data();
   const Real apq = cp[q];
-#pragma omp simd
-  for (std::size_t r = r0; r < r1; ++r) {
+  // Triple (p, q, r) with weight keep (1 or 0): its three barycentric coordinates.
+  auto add = [&](std::size_t r, Real keep) {
     Real aqr = cq[r], arp = -cp[r];
-    Real inv = Real(1) / (apq + aqr + arp);
+    Real inv = keep / (apq + aqr + arp);
     pr[r] += aqr * inv;
     qr[r] += arp * inv;
     rs[r] += apq * inv;
+  };
+  if constexpr (!kFiltered) {
+#pragma omp simd
+    for (std::size_t r = r0; r < r1; ++r) add(r, Real(1));
+    return r1 - r0;
+  } else {
+    std::size_t kept = 0;
+#pragma omp simd reduction(+ : kept)
+    for (std::size_t r = r0; r < r1; ++r) {
+      bool keep = md[r - r0] <= cut;
+      add(r, keep ? Real(1) : Real(0));
+      kept += keep ? 1 : 0;
+    }
+    return kept;
   }
 }
 
@@ -158,31 +177,6 @@ struct Accumulators {
     d = d > c ? d : c;
     out[r - r0] = d > 0 ? d : 0;
   }
-}
-
-// Like accumulate_row, but only for triples whose recorded largest density is <= cut.
-[[gnu::always_inline]] inline std::size_t accumulate_row_below(const Fan& f, std::size_t p,
-                                                               std::size_t q, std::size_t r0,
-                                                               std::size_t r1, const float* md,
-                                                               float cut, Accumulators& a) {
-  const Real* cp = f.cross + p * f.m;
-  const Real* cq = f.cross + q * f.m;
-  Real* pr = a.p_row.data();
-  Real* qr = a.q_rows.data() + q * f.m;
-  Real* rs = a.r_sum.data();
-  const Real apq = cp[q];
-  std::size_t kept = 0;
-#pragma omp simd reduction(+ : kept)
-  for (std::size_t r = r0; r < r1; ++r) {
-    Real keep = md[r - r0] <= cut ? Real(1) : Real(0);
-    Real aqr = cq[r], arp = -cp[r];
-    Real inv = keep / (apq + aqr + arp);
-    pr[r] += aqr * inv;
-    qr[r] += arp * inv;
-    rs[r] += apq * inv;
-    kept += md[r - r0] <= cut ? 1 : 0;
-  }
-  return kept;
 }
 
 // Finds k-th smallest values (0-based) of non-negative floats: one histogram pass over the top
@@ -251,8 +245,7 @@ std::size_t sum_all(const Fan& f, Accumulators& a, double* out) {
   for_each_admissible_row(
       f,
       [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
-        accumulate_row(f, p, q, r0, r1, a);
-        count += r1 - r0;
+        count += accumulate_row<false>(f, p, q, r0, r1, a);
       },
       [&](std::size_t p) { a.end_p(p, f.m); });
   a.finish(f, out);
@@ -279,7 +272,7 @@ std::size_t sum_below(const Fan& f, const float* md, float cut, Accumulators& a,
   for_each_admissible_row(
       f,
       [&](std::size_t p, std::size_t q, std::size_t r0, std::size_t r1) {
-        kept += accumulate_row_below(f, p, q, r0, r1, md + at, cut, a);
+        kept += accumulate_row<true>(f, p, q, r0, r1, a, md + at, cut);
         at += r1 - r0;
       },
       [&](std::size_t p) { a.end_p(p, f.m); });

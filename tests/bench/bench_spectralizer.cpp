@@ -8,19 +8,17 @@
 #include <array>
 #include <vector>
 
+#include "bench_colours.h"
 #include "core/paper_solver.h"
 #include "core/spectralizer.h"
 
 using namespace spectralize;
+using bench::rec709;
+using bench::srgb_decode;
 
 namespace {
 
 // Linear Rec.709 -> XYZ (D65), the paper's light and a few colours to cycle through.
-Xyz rec709(double r, double g, double b) {
-  return {0.41239079926595948 * r + 0.35758433938387796 * g + 0.18048078840183429 * b,
-          0.21263900587151036 * r + 0.71516867876775593 * g + 0.07219231536073372 * b,
-          0.01933081871559185 * r + 0.11919477979462599 * g + 0.95053215224966058 * b};
-}
 
 const std::vector<Xyz>& colours() {
   static const std::vector<Xyz> c = {rec709(6000, 5000, 1000), rec709(0.21, 0.72, 0.15),

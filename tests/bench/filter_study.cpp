@@ -12,21 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "bench_colours.h"
 #include "core/spectralizer.h"
 
 using namespace spectralize;
+using bench::rec709;
+using bench::srgb_decode;
 
 namespace {
-
-Xyz rec709(double r, double g, double b) {
-  return {0.41239079926595948 * r + 0.35758433938387796 * g + 0.18048078840183429 * b,
-          0.21263900587151036 * r + 0.71516867876775593 * g + 0.07219231536073372 * b,
-          0.01933081871559185 * r + 0.11919477979462599 * g + 0.95053215224966058 * b};
-}
-
-double srgb_decode(double v) {
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
 
 struct Shape {
   double edge_ratio, roughness;
