@@ -6,16 +6,15 @@ bin="$build/spectralize"
 out="$build/demo"
 mkdir -p "$out"
 
-summary() {  # summary NAME JSON-FILE
-  python3 - "$1" "$2" <<'PY'
-import json, sys
-name, path = sys.argv[1], sys.argv[2]
-r = json.load(open(path))
-v = r["values"]
-print(f"{name:34s} {r['mode']:11s} status={r['status']:12s} L={r['admissible']:6d} "
-      f"K={r['dropped']:6d} rel.err={r['relative_error']:.1e} "
-      f"min={min(v):.4g} max={max(v):.4g}")
-PY
+summary() {  # summary NAME JSON-FILE: one line from spectralize's own JSON (one field per line)
+  local name="$1" file="$2"
+  field() { sed -n "s/^  \"$1\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$file" | head -1; }
+  local values
+  values=$(sed -n '/"values": \[/,/\]/p' "$file" | sed '1d;$d' | tr -d ' ,')
+  printf '%-34s %-11s status=%-12s L=%6s K=%6s rel.err=%-8.1e min=%-10.4g max=%.4g\n' \
+    "$name" "$(field mode)" "$(field status)" "$(field admissible)" "$(field dropped)" \
+    "$(field relative_error)" "$(echo "$values" | sort -g | head -1)" \
+    "$(echo "$values" | sort -g | tail -1)"
 }
 
 run() {  # run NAME ARGS...
