@@ -98,6 +98,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   //    white is D65 (reflectance: the reference white), or if a narrow grid cannot make D65,
   //    the colour of the flat spectrum, which every grid can.
   if (!locus_.contains(t)) {
+    r.outside_locus = true;
     Xyz white = reflectance ? weights_.unit_white() : kWhiteD65;
     if (!locus_.contains(white)) white = weights_.unit_white();
     move_toward(locus_, (t.Y / white.Y) * white);
@@ -145,19 +146,30 @@ Xyz Spectralizer::target_of(const Xyz& xyz_d65) const {
 }
 
 SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
-  SpectrumResult r;
-  const std::size_t n = settings_.grid.size();
-  r.values.assign(n, 0.0);
-  r.input = xyz_d65;
-  r.dropped = 0;
-
-  // Reject what no spectrum can mean.
-  if (!xyz_d65.finite()) {
+  if (!xyz_d65.finite()) {  // reject what no spectrum can mean
+    SpectrumResult r;
+    r.values.assign(settings_.grid.size(), 0.0);
+    r.input = xyz_d65;
     r.status = Status::invalid;
     r.message = "colour has NaN or infinite components";
     return r;
   }
-  Xyz t = target_of(xyz_d65);
+  SpectrumResult r = spectralize_target(target_of(xyz_d65));
+  r.input = xyz_d65;
+  return r;
+}
+
+SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
+  SpectrumResult r;
+  const std::size_t n = settings_.grid.size();
+  r.values.assign(n, 0.0);
+  r.input = target;
+  if (!target.finite()) {
+    r.status = Status::invalid;
+    r.message = "colour has NaN or infinite components";
+    return r;
+  }
+  Xyz t = target;
   if (t == Xyz{}) {
     r.status = Status::black;
     return r;

@@ -66,6 +66,8 @@ struct SpectrumResult {
   bool bounded = false;        // reflectance: the rho <= 1 fallback changed the spectrum
   bool edge_capped = false;    // filter "auto": edge peaks the ladder left were capped exactly
   double gamut_distance = 0;   // chromaticity (xy) distance the mapping moved the colour
+  bool outside_locus = false;  // out_of_gamut because outside the spectral locus (else, for
+                               // reflectances, outside the reflectance solid)
   std::string message;         // why the status is not ok, for people
 };
 
@@ -79,11 +81,19 @@ class Spectralizer {
   /// throws; problems are in the status. Thread-safe. Cost: ~O(N^2 + L), tens of us at 5 nm.
   SpectrumResult spectralize(const Xyz& xyz_d65) const;
 
+  /// As spectralize(), for a target already in the mode's terms (reflectance: white
+  /// balanced, see target_of). Never throws. Thread-safe. Cost: as spectralize().
+  SpectrumResult spectralize_target(const Xyz& target) const;
+
   /// The target the spectrum must reproduce, before gamut mapping (reflectance: white
   /// balanced). Cost: O(1).
   Xyz target_of(const Xyz& xyz_d65) const;
   /// True when the target is inside the gamut of the mode. Cost: O(facets).
   bool in_gamut(const Xyz& target) const { return gamut_.contains(target); }
+  /// True when the target is inside the spectral locus of the grid. Cost: O(hull facets).
+  bool in_locus(const Xyz& target) const { return locus_.contains(target); }
+  /// What (1, 1, 1) of a D65 space becomes as a target: W_ref (reflectance) or D65. Cost: O(1).
+  Xyz reference_white() const { return hadamard(kWhiteD65, white_balance_); }
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }

@@ -1,0 +1,331 @@
+#include "core/spectral_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "core/error.h"
+
+namespace spectralize {
+
+const float SpectralTable::kInfeasibleMark = 0.0f;
+
+namespace {
+
+// FNV-1a, 64 bit: the persistent cache's checksum (detects truncation and corruption).
+std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 1469598103934665603ull) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+constexpr char kMagic[16] = "SPECTRALIZE-TBL";  // 15 chars + NUL
+constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::size_t kArenaBlockNodes = 1024;
+
+PixelKind kind_of(const SpectrumResult& r) {
+  switch (r.status) {
+    case Status::ok:
+      return PixelKind::in_gamut;
+    case Status::black:
+      return PixelKind::black;
+    case Status::invalid:
+      return PixelKind::invalid;
+    case Status::out_of_gamut:
+      return r.outside_locus ? PixelKind::outside_locus : PixelKind::outside_solid;
+  }
+  return PixelKind::invalid;
+}
+
+}  // namespace
+
+std::size_t SpectralTable::TargetHash::operator()(const TargetKey& k) const {
+  return static_cast<std::size_t>(fnv1a(&k, sizeof k));
+}
+
+SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method,
+                             TableResolution resolution)
+    : sp_(spectralizer), method_(method), bands_(spectralizer.settings().grid.size()) {
+  const bool reflectance = sp_.settings().mode == Mode::reflectance;
+  xy_steps_ = resolution.xy_steps > 0 ? resolution.xy_steps : (reflectance ? 64 : 128);
+  s_steps_ = std::max(1, resolution.s_steps);
+  if (xy_steps_ > 4096 || s_steps_ > 1024) throw Error("table resolution too fine");
+  nx_ = static_cast<int>(std::ceil(kXMax * xy_steps_)) + 1;
+  ny_ = static_cast<int>(std::ceil(kYMax * xy_steps_)) + 1;
+  ns_ = reflectance ? s_steps_ + 1 : 1;
+  // The brightest reflectance is the reference white; nothing in the solid has a larger S.
+  s_max_ = reflectance ? sp_.weights().unit_white().sum() : 1.0;
+  node_count_ = static_cast<std::size_t>(nx_) * ny_ * ns_;
+  nodes_ = std::make_unique<std::atomic<const float*>[]>(node_count_);
+  for (std::size_t i = 0; i < node_count_; ++i) nodes_[i].store(nullptr, std::memory_order_relaxed);
+}
+
+std::string SpectralTable::cache_key() const {
+  const auto& s = sp_.settings();
+  std::ostringstream key;
+  key << "spectralize " << SPECTRALIZE_VERSION << " table v" << kFormatVersion
+      << "; grid " << s.grid.to_string() << "; observer " << sp_.observer().name << "; mode "
+      << to_string(s.mode) << "; illuminant "
+      << (sp_.illuminant() ? sp_.illuminant()->name : std::string("none")) << "; filter "
+      << s.filter.to_string() << "; nodes " << nx_ << "x" << ny_ << "x" << ns_ << " step 1/"
+      << xy_steps_ << " S/" << s_steps_;
+  return key.str();
+}
+
+Xyz SpectralTable::node_target(std::size_t index) const {
+  const std::size_t per_layer = static_cast<std::size_t>(nx_) * ny_;
+  const int is = static_cast<int>(index / per_layer);
+  const std::size_t rest = index % per_layer;
+  const double x = static_cast<double>(rest % nx_) / xy_steps_;
+  const double y = static_cast<double>(rest / nx_) / xy_steps_;
+  const double S = ns_ > 1 ? s_max_ * is / s_steps_ : 1.0;
+  return {S * x, S * y, S * (1 - x - y)};
+}
+
+float* SpectralTable::allocate_node() {
+  std::lock_guard<std::mutex> lock(arena_mutex_);
+  if (arena_.empty() || arena_used_ == kArenaBlockNodes) {
+    arena_.emplace_back(kArenaBlockNodes * bands_);
+    arena_used_ = 0;
+  }
+  return arena_.back().data() + bands_ * arena_used_++;
+}
+
+const float* SpectralTable::compute_node(std::size_t index) {
+  std::lock_guard<std::mutex> lock(node_locks_[index % node_locks_.size()]);
+  const float* ready = nodes_[index].load(std::memory_order_acquire);
+  if (ready) return ready;  // another thread was first
+  const Xyz t = node_target(index);
+  const float* result = &kInfeasibleMark;
+  if (t == Xyz{}) {
+    float* zeros = allocate_node();
+    std::fill(zeros, zeros + bands_, 0.0f);
+    result = zeros;
+  } else if (t.Y > 0 && t.Z >= 0 && sp_.in_gamut(t)) {
+    SpectrumResult r = sp_.spectralize_target(t);
+    // A node is only usable if its spectrum reproduces the node's colour itself.
+    if (r.status == Status::ok && r.relative_error <= 1e-9 && relative_error(r.target, t) <= 1e-12) {
+      float* values = allocate_node();
+      std::copy(r.values.begin(), r.values.end(), values);
+      result = values;
+    }
+  }
+  if (result == &kInfeasibleMark) stats_.nodes_infeasible++;
+  stats_.nodes_computed++;
+  nodes_[index].store(result, std::memory_order_release);
+  return result;
+}
+
+inline const float* SpectralTable::node(std::size_t index) {
+  const float* p = nodes_[index].load(std::memory_order_acquire);
+  return p ? p : compute_node(index);
+}
+
+PixelResult SpectralTable::direct(const Xyz& target, float* out) {
+  const TargetKey key{target.X, target.Y, target.Z};
+  Shard& shard = shards_[TargetHash{}(key) % shards_.size()];
+  {
+    std::lock_guard<std::mutex> lock(shard.mutex);
+    auto it = shard.solved.find(key);
+    if (it != shard.solved.end()) {
+      std::copy(it->second.values.begin(), it->second.values.end(), out);
+      stats_.fallback_hits++;
+      return it->second.result;
+    }
+  }
+  // Solve outside the lock; two threads may solve the same colour once each, same result.
+  SpectrumResult r = sp_.spectralize_target(target);
+  Solved solved;
+  solved.values.assign(r.values.begin(), r.values.end());
+  solved.result.kind = kind_of(r);
+  solved.result.fallback = true;
+  solved.result.target = r.target;
+  std::copy(solved.values.begin(), solved.values.end(), out);
+  stats_.fallback_solves++;
+  PixelResult result = solved.result;
+  std::lock_guard<std::mutex> lock(shard.mutex);
+  shard.solved.emplace(key, std::move(solved));
+  return result;
+}
+
+PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
+  PixelResult res;
+  if (!xyz_d65.finite()) {
+    std::fill(out, out + bands_, 0.0f);
+    res.kind = PixelKind::invalid;
+    return res;
+  }
+  const Xyz t = sp_.target_of(xyz_d65);
+  if (t == Xyz{}) {
+    std::fill(out, out + bands_, 0.0f);
+    res.kind = PixelKind::black;
+    return res;
+  }
+  if (t.Y < 0) {
+    std::fill(out, out + bands_, 0.0f);
+    res.kind = PixelKind::negative;
+    return res;
+  }
+  const double S = t.sum();
+  if (method_ == Method::exact || !(S > 0)) return direct(t, out);
+
+  // Locate the cell; colours off the node grid are outside the locus: solve directly.
+  const double fx = t.X / S * xy_steps_, fy = t.Y / S * xy_steps_;
+  const double fs = ns_ > 1 ? S / s_max_ * s_steps_ : 0.0;
+  if (!(fx >= 0 && fx < nx_ - 1 && fy >= 0 && fy < ny_ - 1 && fs < ns_ - 1 + (ns_ == 1)))
+    return direct(t, out);
+  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+  const int is = ns_ > 1 ? static_cast<int>(fs) : 0;
+  const float ux = static_cast<float>(fx - ix), uy = static_cast<float>(fy - iy);
+  const float us = static_cast<float>(fs - is);
+
+  // The cell's nodes: 4 (emission) or 8 (reflectance), with bi/trilinear weights.
+  const std::size_t per_layer = static_cast<std::size_t>(nx_) * ny_;
+  const std::size_t base = static_cast<std::size_t>(is) * per_layer +
+                           static_cast<std::size_t>(iy) * nx_ + static_cast<std::size_t>(ix);
+  const int corners = ns_ > 1 ? 8 : 4;
+  const float* p[8];
+  float w[8];
+  for (int c = 0; c < corners; ++c) {
+    const int dx = c & 1, dy = (c >> 1) & 1, ds = (c >> 2) & 1;
+    p[c] = node(base + ds * per_layer + dy * nx_ + dx);
+    if (p[c] == &kInfeasibleMark) return direct(t, out);  // the cell crosses the gamut boundary
+    w[c] = (dx ? ux : 1 - ux) * (dy ? uy : 1 - uy) * (corners == 8 ? (ds ? us : 1 - us) : 1.0f);
+  }
+  // Emission nodes are spectra of X+Y+Z = 1: scale by the pixel's S.
+  const float scale = ns_ > 1 ? 1.0f : static_cast<float>(S);
+  for (int c = 0; c < corners; ++c) w[c] *= scale;
+  if (corners == 4) {
+    for (std::size_t i = 0; i < bands_; ++i)
+      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i];
+  } else {
+    for (std::size_t i = 0; i < bands_; ++i)
+      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i] +
+               w[4] * p[4][i] + w[5] * p[5][i] + w[6] * p[6][i] + w[7] * p[7][i];
+  }
+  res.target = t;
+  return res;
+}
+
+void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,
+                            PixelResult* results) {
+  for (std::size_t i = 0; i < n; ++i) results[i] = spectrum(xyz_d65[i], out + i * bands_);
+}
+
+TableStats SpectralTable::stats() const {
+  TableStats s;
+  s.nodes_computed = stats_.nodes_computed.load();
+  s.nodes_loaded = stats_.nodes_loaded.load();
+  s.nodes_infeasible = stats_.nodes_infeasible.load();
+  s.fallback_solves = stats_.fallback_solves.load();
+  s.fallback_hits = stats_.fallback_hits.load();
+  return s;
+}
+
+// File layout: magic[16], u32 version, u64 key length, key, u64 bands, u64 entries, then per
+// entry u64 node index, u8 feasible, bands floats if feasible; last a u64 FNV-1a checksum of
+// everything before it.
+std::string SpectralTable::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";  // no cache yet
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < sizeof kMagic + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    return "not a spectralize table cache";
+  std::uint64_t stored_sum;
+  std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
+  if (fnv1a(bytes.data(), bytes.size() - 8) != stored_sum) return "checksum mismatch (corrupt or truncated)";
+  std::size_t at = sizeof kMagic;
+  auto take = [&](void* dst, std::size_t n) {
+    if (at + n > bytes.size() - 8) throw Error("truncated");
+    std::memcpy(dst, bytes.data() + at, n);
+    at += n;
+  };
+  try {
+    std::uint32_t version;
+    std::uint64_t key_len, bands, entries;
+    take(&version, 4);
+    if (version != kFormatVersion) return "cache format version " + std::to_string(version);
+    take(&key_len, 8);
+    if (key_len > 4096) return "bad key length";
+    std::string key(key_len, '\0');
+    take(key.data(), key_len);
+    if (key != cache_key()) return "made for other settings (" + key + ")";
+    take(&bands, 8);
+    take(&entries, 8);
+    if (bands != bands_ || entries > node_count_) return "inconsistent sizes";
+    for (std::uint64_t e = 0; e < entries; ++e) {
+      std::uint64_t index;
+      std::uint8_t feasible;
+      take(&index, 8);
+      take(&feasible, 1);
+      if (index >= node_count_) return "node index out of range";
+      const float* value = &kInfeasibleMark;
+      if (feasible) {
+        float* values = allocate_node();
+        take(values, bands_ * sizeof(float));
+        for (std::size_t i = 0; i < bands_; ++i)
+          if (!(values[i] >= 0) || !std::isfinite(values[i])) return "invalid node values";
+        value = values;
+      }
+      nodes_[index].store(value, std::memory_order_release);
+      stats_.nodes_loaded++;
+    }
+  } catch (const Error&) {
+    return "truncated";
+  }
+  return "";
+}
+
+std::string SpectralTable::save(const std::string& path) const {
+  std::string bytes(kMagic, sizeof kMagic);
+  auto put = [&](const void* src, std::size_t n) {
+    bytes.append(static_cast<const char*>(src), n);
+  };
+  const std::string key = cache_key();
+  const std::uint32_t version = kFormatVersion;
+  const std::uint64_t key_len = key.size(), bands = bands_;
+  put(&version, 4);
+  put(&key_len, 8);
+  put(key.data(), key.size());
+  put(&bands, 8);
+  std::uint64_t entries = 0;
+  const std::size_t entries_at = bytes.size();
+  put(&entries, 8);
+  for (std::size_t i = 0; i < node_count_; ++i) {
+    const float* p = nodes_[i].load(std::memory_order_acquire);
+    if (!p) continue;
+    const std::uint64_t index = i;
+    const std::uint8_t feasible = p != &kInfeasibleMark;
+    put(&index, 8);
+    put(&feasible, 1);
+    if (feasible) put(p, bands_ * sizeof(float));
+    ++entries;
+  }
+  std::memcpy(bytes.data() + entries_at, &entries, 8);
+  const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
+  put(&sum, 8);
+  // Unique temporary name per process and object, renamed into place: atomic for readers.
+  const std::string tmp = path + ".tmp." + std::to_string(static_cast<unsigned long>(
+                                               reinterpret_cast<std::uintptr_t>(this) ^ ::getpid()));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return "cannot write " + tmp;
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) {
+      std::remove(tmp.c_str());
+      return "cannot write " + tmp;
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    return "cannot rename " + tmp + " to " + path;
+  }
+  return "";
+}
+
+}  // namespace spectralize
