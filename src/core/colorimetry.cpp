@@ -186,7 +186,7 @@ Illuminant Illuminant::get(std::string_view name) {
     if (hundreds < 40 || hundreds > 250)
       throw Error("illuminant '" + std::string(name) +
                   "': daylight series is defined for D40..D250 (4000..25000 K)");
-    il = {"D" + n.substr(1), daylight(hundreds * 100.0)};
+    il = {std::string("D").append(n, 1, std::string::npos), daylight(hundreds * 100.0)};
   } else {
     for (const auto& col : embedded_columns(kFluorescentFile)) {
       if (lower(col) == n) {

@@ -68,8 +68,8 @@ SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method,
 std::string SpectralTable::cache_key() const {
   const auto& s = sp_.settings();
   std::ostringstream key;
-  key << "spectralize " << SPECTRALIZE_VERSION << " table v" << kFormatVersion
-      << "; grid " << s.grid.to_string() << "; observer " << sp_.observer().name << "; mode "
+  key << "spectralize " << SPECTRALIZE_VERSION << " table v" << kFormatVersion << "; grid "
+      << s.grid.to_string() << "; observer " << sp_.observer().name << "; mode "
       << to_string(s.mode) << "; illuminant "
       << (sp_.illuminant() ? sp_.illuminant()->name : std::string("none")) << "; filter "
       << s.filter.to_string() << "; nodes " << nx_ << "x" << ny_ << "x" << ns_ << " step 1/"
@@ -109,7 +109,8 @@ const float* SpectralTable::compute_node(std::size_t index) {
   } else if (t.Y > 0 && t.Z >= 0 && sp_.in_gamut(t)) {
     SpectrumResult r = sp_.spectralize_target(t);
     // A node is only usable if its spectrum reproduces the node's colour itself.
-    if (r.status == Status::ok && r.relative_error <= 1e-9 && relative_error(r.target, t) <= 1e-12) {
+    if (r.status == Status::ok && r.relative_error <= 1e-9 &&
+        relative_error(r.target, t) <= 1e-12) {
       float* values = allocate_node();
       std::copy(r.values.begin(), r.values.end(), values);
       result = values;
@@ -205,15 +206,14 @@ PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
       out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i];
   } else {
     for (std::size_t i = 0; i < bands_; ++i)
-      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i] +
-               w[4] * p[4][i] + w[5] * p[5][i] + w[6] * p[6][i] + w[7] * p[7][i];
+      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i] + w[4] * p[4][i] +
+               w[5] * p[5][i] + w[6] * p[6][i] + w[7] * p[7][i];
   }
   res.target = t;
   return res;
 }
 
-void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,
-                            PixelResult* results) {
+void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out, PixelResult* results) {
   for (std::size_t i = 0; i < n; ++i) results[i] = spectrum(xyz_d65[i], out + i * bands_);
 }
 
@@ -238,7 +238,8 @@ std::string SpectralTable::load(const std::string& path) {
     return "not a spectralize table cache";
   std::uint64_t stored_sum;
   std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored_sum) return "checksum mismatch (corrupt or truncated)";
+  if (fnv1a(bytes.data(), bytes.size() - 8) != stored_sum)
+    return "checksum mismatch (corrupt or truncated)";
   std::size_t at = sizeof kMagic;
   auto take = [&](void* dst, std::size_t n) {
     if (at + n > bytes.size() - 8) throw Error("truncated");
@@ -310,8 +311,9 @@ std::string SpectralTable::save(const std::string& path) const {
   const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
   put(&sum, 8);
   // Unique temporary name per process and object, renamed into place: atomic for readers.
-  const std::string tmp = path + ".tmp." + std::to_string(static_cast<unsigned long>(
-                                               reinterpret_cast<std::uintptr_t>(this) ^ ::getpid()));
+  const std::string tmp = path + ".tmp." +
+                          std::to_string(static_cast<unsigned long>(
+                              reinterpret_cast<std::uintptr_t>(this) ^ ::getpid()));
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return "cannot write " + tmp;

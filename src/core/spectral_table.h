@@ -39,17 +39,18 @@ enum class PixelKind : std::uint8_t {
 /// How the spectrum of one pixel was made.
 struct PixelResult {
   PixelKind kind = PixelKind::in_gamut;
-  bool fallback = false;  // a direct exact solve (cell with an out-of-gamut node, or --method exact)
-  Xyz target;             // the colour the spectrum reproduces (mode's terms, gamut mapped)
+  bool fallback =
+      false;   // a direct exact solve (cell with an out-of-gamut node, or --method exact)
+  Xyz target;  // the colour the spectrum reproduces (mode's terms, gamut mapped)
 };
 
 /// Counters of a table's work, for reports. Plain numbers, summed over threads.
 struct TableStats {
-  std::uint64_t nodes_computed = 0;   // node spectra solved in this run
-  std::uint64_t nodes_loaded = 0;     // node spectra read from the persistent cache
-  std::uint64_t nodes_infeasible = 0; // nodes outside the gamut (their cells fall back)
-  std::uint64_t fallback_solves = 0;  // direct exact solves of pixels
-  std::uint64_t fallback_hits = 0;    // pixels answered from the direct-solve cache
+  std::uint64_t nodes_computed = 0;    // node spectra solved in this run
+  std::uint64_t nodes_loaded = 0;      // node spectra read from the persistent cache
+  std::uint64_t nodes_infeasible = 0;  // nodes outside the gamut (their cells fall back)
+  std::uint64_t fallback_solves = 0;   // direct exact solves of pixels
+  std::uint64_t fallback_hits = 0;     // pixels answered from the direct-solve cache
 };
 
 /// Node spacing of a SpectralTable: 1/xy_steps in chromaticity; reflectance also s_steps
@@ -112,8 +113,8 @@ class SpectralTable {
   Method method_;
   std::size_t bands_;
   int xy_steps_, s_steps_;
-  int nx_, ny_, ns_;   // nodes per axis
-  double s_max_ = 1;   // reflectance: S of the reference white, the top layer
+  int nx_, ny_, ns_;  // nodes per axis
+  double s_max_ = 1;  // reflectance: S of the reference white, the top layer
   std::unique_ptr<std::atomic<const float*>[]> nodes_;
   std::size_t node_count_;
   static const float kInfeasibleMark;

@@ -41,13 +41,13 @@ std::string xyz_space_of(const ConfigPtr& config) {
 
 }  // namespace
 
-void ToXyz::apply(float* rgb, std::size_t pixels) const {
+void ColourTransform::apply(float* rgb, std::size_t pixels) const {
   const CpuPtr& cpu = *static_cast<const CpuPtr*>(processor_.get());
   OCIO::PackedImageDesc desc(rgb, static_cast<long>(pixels), 1, 3);
   cpu->apply(desc);
 }
 
-Xyz ToXyz::operator()(double r, double g, double b) const {
+Xyz ColourTransform::operator()(double r, double g, double b) const {
   float px[3] = {static_cast<float>(r), static_cast<float>(g), static_cast<float>(b)};
   const CpuPtr& cpu = *static_cast<const CpuPtr*>(processor_.get());
   cpu->applyRGB(px);
@@ -111,15 +111,25 @@ std::vector<std::string> ColourSpaces::describe() const {
   return out;
 }
 
-ToXyz ColourSpaces::to_xyz(std::string_view space) const {
+ColourTransform ColourSpaces::to_xyz(std::string_view space) const {
+  return transform(space, true);
+}
+
+ColourTransform ColourSpaces::from_xyz(std::string_view space) const {
+  return transform(space, false);
+}
+
+ColourTransform ColourSpaces::transform(std::string_view space, bool to_xyz) const {
   const ConfigPtr& config = config_of(config_);
-  ToXyz t;
+  ColourTransform t;
   t.source_ = resolve(space);
   try {
-    auto processor = config->getProcessor(t.source_.c_str(), xyz_space_of(config).c_str());
+    const std::string xyz = xyz_space_of(config);
+    auto processor = to_xyz ? config->getProcessor(t.source_.c_str(), xyz.c_str())
+                            : config->getProcessor(xyz.c_str(), t.source_.c_str());
     t.processor_ = std::make_shared<const CpuPtr>(processor->getDefaultCPUProcessor());
   } catch (const OCIO::Exception& e) {
-    throw Error("OCIO cannot convert '" + t.source_ + "' to CIE-XYZ-D65: " + e.what());
+    throw Error("OCIO cannot convert between '" + t.source_ + "' and CIE-XYZ-D65: " + e.what());
   }
   return t;
 }

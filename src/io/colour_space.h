@@ -12,14 +12,14 @@
 
 namespace spectralize {
 
-/// A converter from one colour space to CIE-XYZ-D65. Copyable, thread-safe to apply.
-class ToXyz {
+/// A conversion between two colour spaces by OCIO (in float). Copyable, thread-safe to apply.
+class ColourTransform {
  public:
-  /// Converts `pixels` packed RGB triples in place to XYZ. Cost: O(pixels).
+  /// Converts `pixels` packed triples in place. Cost: O(pixels).
   void apply(float* rgb, std::size_t pixels) const;
-  /// Converts one colour (in float, as OCIO computes). Cost: O(1) plus OCIO overhead.
+  /// Converts one colour. Cost: O(1) plus OCIO overhead.
   Xyz operator()(double r, double g, double b) const;
-  /// Canonical name of the source space. Cost: O(1).
+  /// Canonical name of the colour space on the RGB side. Cost: O(1).
   const std::string& source() const { return source_; }
 
  private:
@@ -44,9 +44,12 @@ class ColourSpaces {
   std::vector<std::string> describe() const;
   /// A converter from `space` to CIE-XYZ-D65; throws Error for unknown spaces or configs without
   /// an XYZ-D65 space. Cost: OCIO processor build, ~ms (cached by OCIO).
-  ToXyz to_xyz(std::string_view space) const;
+  ColourTransform to_xyz(std::string_view space) const;
+  /// A converter from CIE-XYZ-D65 to `space`; throws Error as to_xyz. Cost: as to_xyz.
+  ColourTransform from_xyz(std::string_view space) const;
 
  private:
+  ColourTransform transform(std::string_view space, bool to_xyz) const;
   std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
   std::string origin_;
 };

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "tool/flags.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -55,16 +56,6 @@ Rgb parse_rgb(const std::string& text) {
   return {v[0], v[1], v[2], text};
 }
 
-// Runs `fn` and turns the core's configuration errors into usage errors naming the flag.
-template <typename Fn>
-auto flag_value(const char* flag, Fn&& fn) {
-  try {
-    return fn();
-  } catch (const Error& e) {
-    throw UsageError{fmt::format("{}: {}", flag, e.what())};
-  }
-}
-
 Json xyz_json(const Xyz& v) {
   return Json::array({v.X, v.Y, v.Z});
 }
@@ -105,18 +96,12 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
 
 int run_color(const Options& opt) {
   // Validate every flag before any work, so a mistake is reported as such (exit 2).
-  if (opt.format != "csv" && opt.format != "json")
-    throw UsageError{
-        fmt::format("--format '{}': valid formats for --color are csv, json", opt.format)};
-  SpectralizerSettings settings;
-  settings.mode = flag_value("--mode", [&] { return parse_mode(opt.mode); });
-  settings.grid =
-      flag_value("--wavelengths", [&] { return WavelengthGrid::parse(opt.wavelengths); });
-  settings.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
-  settings.illuminant =
-      flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
-  if (!opt.filter.empty())
-    settings.filter = flag_value("--filter", [&] { return EdgeFilter::parse(opt.filter); });
+  const std::string format = opt.format.empty() ? "csv" : opt.format;
+  if (format != "csv" && format != "json")
+    throw UsageError{fmt::format("--format '{}': valid formats for --color are csv, json", format)};
+  SpectralizerSettings settings = spectral_settings(opt);
+  settings.mode =
+      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
 
@@ -124,7 +109,7 @@ int run_color(const Options& opt) {
       opt.config.empty() ? ColourSpaces::load()
                          : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
   std::string space = opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
-  ToXyz to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
 
   Spectralizer spectralizer(settings);
   std::vector<SpectrumResult> results;
@@ -144,7 +129,7 @@ int run_color(const Options& opt) {
   }
 
   const auto& grid = settings.grid;
-  if (opt.format == "json") {
+  if (format == "json") {
     Json out = Json::array();
     for (std::size_t i = 0; i < results.size(); ++i)
       out.push_back(result_json(colours[i], to_xyz.source(), spectralizer, results[i]));

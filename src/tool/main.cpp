@@ -29,7 +29,8 @@ int main(int argc, const char** argv) {
            " -- exact RGB-to-spectrum conversion (Zhdanov & Potemin)\n"
            "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
            "stays <= 1.")
-      .usage("spectralize --color R,G,B [options]")
+      .usage(
+          "spectralize INPUT -o OUTPUT.exr [options]\n       spectralize --color R,G,B [options]")
       .add_help(false)  // ours prints to stdout and exits 0 even with exit_on_error(false)
       .exit_on_error(false);
   bool help = false;
@@ -37,14 +38,45 @@ int main(int argc, const char** argv) {
     help = true;
   });
 
+  ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> args) {
+    opt.inputs.emplace_back(args[0]);
+  });
+
+  ap.separator("Images (RGB in, spectral OpenEXR out):");
+  ap.arg("-o OUTPUT")
+      .help("The spectral OpenEXR to write (through a temporary file, renamed when complete)")
+      .action(store(opt.output));
+  ap.arg("--format FORMAT")
+      .help("Samples: half (default) or float; with --color: csv (default) or json")
+      .action(store(opt.format));
+  ap.arg("--compression NAME")
+      .help(
+          "OpenEXR compression: zip (default), piz, zips, rle, pxr24, b44, b44a, dwaa, dwab, none")
+      .action(store(opt.compression));
+  ap.arg("--tile N").help("Write N x N tiles instead of scanlines").action(store(opt.tile));
+  ap.arg("--method METHOD")
+      .help(
+          "table (default: exact interpolation of cached node spectra) or exact (solve every "
+          "distinct colour; slow, for comparison)")
+      .action(store(opt.method));
+  ap.arg("--cache DIR")
+      .help("Keep the node table in DIR across runs (keyed by every setting it depends on)")
+      .action(store(opt.cache));
+  ap.arg("--threads N").help("Threads (default: all cores)").action(store(opt.threads));
+  ap.arg("--report FILE")
+      .help("Write a JSON report: colour space, counts by kind, errors, cache, timings")
+      .action(store(opt.report));
+  ap.arg("-v")
+      .help("Verbose: stages, colour-space choice, cache statistics")
+      .action([&](OIIO::cspan<const char*>) { opt.verbosity = 2; });
+  ap.arg("-q")
+      .help("Quiet: no progress, summary or warnings")
+      .action([&](OIIO::cspan<const char*>) { opt.verbosity = 0; });
+
   ap.separator("Single colours:");
   ap.arg("--color R,G,B")
       .help("Spectralize one colour (repeatable); prints the spectrum to stdout")
       .action([&](OIIO::cspan<const char*> args) { opt.colors.emplace_back(args[1]); });
-  ap.arg("--format FORMAT")
-      .help("Output of --color: csv (wavelength_nm,value rows; default) or json (every field)")
-      .action(store(opt.format));
-
   ap.separator("Colour:");
   ap.arg("--colorspace NAME")
       .help(
@@ -56,7 +88,9 @@ int main(int argc, const char** argv) {
 
   ap.separator("Spectrum:");
   ap.arg("--mode MODE")
-      .help("emission (lights, HDR; default) or reflectance (surfaces, rho in [0,1])")
+      .help(
+          "emission (lights, HDR), reflectance (surfaces, rho in [0,1]) or, for images, auto "
+          "(default: float data emission, integer data reflectance; --color: emission)")
       .action(store(opt.mode));
   ap.arg("--wavelengths GRID")
       .help("Sampling grid START:END:STEP in nm inside 360..830, step >= 0.5 (default 380:780:5)")
@@ -87,9 +121,12 @@ int main(int argc, const char** argv) {
     return kExitOk;
   }
   try {
+    if (!opt.colors.empty() && !opt.inputs.empty())
+      throw UsageError{"give either --color or an input image, not both"};
     if (!opt.colors.empty()) return run_color(opt);
+    if (!opt.inputs.empty() || !opt.output.empty()) return run_image(opt);
     std::fprintf(stderr,
-                 "spectralize ERROR: nothing to do: give --color R,G,B\n"
+                 "spectralize ERROR: nothing to do: give INPUT -o OUTPUT.exr, or --color R,G,B\n"
                  "Run 'spectralize --help' for the options.\n");
     return kExitUsage;
   } catch (const UsageError& e) {

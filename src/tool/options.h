@@ -12,14 +12,23 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 
 struct Options {
   std::vector<std::string> colors;        // --color R,G,B (repeatable)
-  std::string colorspace;                 // --colorspace NAME (empty: default)
-  std::string mode = "emission";          // --mode
+  std::vector<std::string> inputs;        // positional: the image to spectralize
+  std::string output;                     // -o OUTPUT.exr
+  std::string colorspace;                 // --colorspace NAME (empty: default / detected)
+  std::string mode;                       // --mode (empty: emission for --color, auto for images)
   std::string wavelengths = "380:780:5";  // --wavelengths START:END:STEP
   std::string observer = "cie1931";       // --observer
   std::string illuminant = "D65";         // --illuminant
   std::string filter;                     // --filter K (empty: the default)
-  std::string format = "csv";             // --format csv|json
+  std::string format;                     // --format: csv|json (--color), half|float (images)
+  std::string compression = "zip";        // --compression
+  std::string tile;                       // --tile N (empty: scanlines)
+  std::string method = "table";           // --method table|exact
+  std::string cache;                      // --cache DIR
+  std::string threads;                    // --threads N (empty: all cores)
+  std::string report;                     // --report FILE.json
   std::string config;                     // --config FILE
+  int verbosity = 1;                      // -q: 0, default 1, -v: 2
 };
 
 /// A command-line mistake: printed as "spectralize ERROR: ..." with exit status 2.
@@ -30,5 +39,10 @@ struct UsageError {
 /// Runs `spectralize --color ...`: prints spectra to stdout, warnings to stderr. Returns the exit
 /// status; throws UsageError for malformed values. Cost: one exact solve per colour.
 int run_color(const Options& options);
+
+/// Runs `spectralize INPUT -o OUTPUT.exr ...`: the image job, its console summary, progress and
+/// --report. Returns the exit status; throws UsageError for malformed values and Error when the
+/// job fails. Cost: O(pixels x bands).
+int run_image(const Options& options);
 
 }  // namespace spectralize::tool

@@ -1,0 +1,31 @@
+#pragma once
+// Validation of flag values shared by the commands: every mistake becomes a UsageError whose
+// message names the flag and the value.
+
+#include <string>
+
+#include "core/error.h"
+#include "core/spectralizer.h"
+#include "tool/options.h"
+
+namespace spectralize::tool {
+
+/// Runs `fn`, turning the core's configuration errors into usage errors naming the flag.
+/// Cost: that of fn.
+template <typename Fn>
+auto flag_value(const char* flag, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const Error& e) {
+    throw UsageError{std::string(flag) + ": " + e.what()};
+  }
+}
+
+/// The grid, observer, illuminant and filter of the options (mode left to the caller).
+/// Cost: O(1).
+SpectralizerSettings spectral_settings(const Options& options);
+
+/// Parses a whole number in [min, max] given to `flag`. Cost: O(length).
+int parse_int_flag(const char* flag, const std::string& text, int min, int max);
+
+}  // namespace spectralize::tool
