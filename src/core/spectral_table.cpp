@@ -154,32 +154,33 @@ PixelResult SpectralTable::direct(const Xyz& target, float* out) {
   return result;
 }
 
-PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
-  PixelResult res;
+inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& res) {
+  res.kind = PixelKind::in_gamut;
+  res.fallback = false;
   if (!xyz_d65.finite()) {
     std::fill(out, out + bands_, 0.0f);
     res.kind = PixelKind::invalid;
-    return res;
+    return;
   }
   const Xyz t = sp_.target_of(xyz_d65);
   if (t == Xyz{}) {
     std::fill(out, out + bands_, 0.0f);
     res.kind = PixelKind::black;
-    return res;
+    return;
   }
   if (t.Y < 0) {
     std::fill(out, out + bands_, 0.0f);
     res.kind = PixelKind::negative;
-    return res;
+    return;
   }
   const double S = t.sum();
-  if (method_ == Method::exact || !(S > 0)) return direct(t, out);
+  if (method_ == Method::exact || !(S > 0)) return void(res = direct(t, out));
 
   // Locate the cell; colours off the node grid are outside the locus: solve directly.
   const double fx = t.X / S * xy_steps_, fy = t.Y / S * xy_steps_;
   const double fs = ns_ > 1 ? S / s_max_ * s_steps_ : 0.0;
   if (!(fx >= 0 && fx < nx_ - 1 && fy >= 0 && fy < ny_ - 1 && fs < ns_ - 1 + (ns_ == 1)))
-    return direct(t, out);
+    return void(res = direct(t, out));
   const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
   const int is = ns_ > 1 ? static_cast<int>(fs) : 0;
   const float ux = static_cast<float>(fx - ix), uy = static_cast<float>(fy - iy);
@@ -195,7 +196,8 @@ PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
   for (int c = 0; c < corners; ++c) {
     const int dx = c & 1, dy = (c >> 1) & 1, ds = (c >> 2) & 1;
     p[c] = node(base + ds * per_layer + dy * nx_ + dx);
-    if (p[c] == &kInfeasibleMark) return direct(t, out);  // the cell crosses the gamut boundary
+    if (p[c] == &kInfeasibleMark)
+      return void(res = direct(t, out));  // the cell crosses the gamut boundary
     w[c] = (dx ? ux : 1 - ux) * (dy ? uy : 1 - uy) * (corners == 8 ? (ds ? us : 1 - us) : 1.0f);
   }
   // Emission nodes are spectra of X+Y+Z = 1: scale by the pixel's S.
@@ -210,11 +212,22 @@ PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
                w[5] * p[5][i] + w[6] * p[6][i] + w[7] * p[7][i];
   }
   res.target = t;
+}
+
+PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
+  PixelResult res;
+  pixel(xyz_d65, out, res);
   return res;
 }
 
-void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out, PixelResult* results) {
-  for (std::size_t i = 0; i < n; ++i) results[i] = spectrum(xyz_d65[i], out + i * bands_);
+// The blend loops vectorise well: compiled for AVX2 (with FMA) and baseline x86-64, picked at
+// load time.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+#endif
+void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,
+                            PixelResult* results) {
+  for (std::size_t i = 0; i < n; ++i) pixel(xyz_d65[i], out + i * bands_, results[i]);
 }
 
 TableStats SpectralTable::stats() const {

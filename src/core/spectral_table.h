@@ -102,6 +102,10 @@ class SpectralTable {
  private:
   static constexpr double kXMax = 0.76, kYMax = 0.86;  // the spectral locus fits inside
 
+  // One pixel into `res` (written in place: a returned struct assembled on the stack stalls on
+  // store forwarding in the batch loop).
+  [[gnu::always_inline]] void pixel(const Xyz& xyz_d65, float* out, PixelResult& res);
+
   // Node storage: a pointer per node, null until computed; kInfeasible marks nodes outside.
   const float* node(std::size_t index);
   const float* compute_node(std::size_t index);

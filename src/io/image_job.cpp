@@ -11,6 +11,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <future>
 #include <mutex>
 #include <vector>
 
@@ -323,17 +324,26 @@ ImageReport run_image_job(const ImageJobSettings& job, const ProgressFn& progres
   rep.seconds_setup = seconds_since(t_start);
 
   // Stream strips of rows: read, convert, write. Memory is O(strip), not O(image).
-  const int strip = job.tile > 0 ? job.tile : 32;
+  // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows) or tiles, so that
+  // OpenEXR compresses many blocks of a strip in parallel while we compute the next strip.
   const std::size_t width = static_cast<std::size_t>(spec.width);
-  std::vector<float> inbuf(width * strip * nch), outbuf(width * strip * out_nch);
+  const int unit = job.tile > 0 ? job.tile : 16;
+  const std::size_t bytes_per_row = width * static_cast<std::size_t>(out_nch) * sizeof(float);
+  const int strip = unit * static_cast<int>(std::clamp<std::size_t>(
+                               (24u << 20) / (bytes_per_row * unit), 1, std::max(1, 512 / unit)));
+  std::vector<float> inbuf(width * strip * nch);
+  std::vector<float> outbufs[2] = {std::vector<float>(width * strip * out_nch),
+                                   std::vector<float>(width * strip * out_nch)};
+  std::future<void> writing;  // the previous strip's write, overlapping this strip's work
   std::vector<float> xyz(width * strip * 3), preview_rgb(width * strip * 3);
   std::vector<PixelResult> results(width * strip);
   Counters total;
   std::mutex counters_mutex;
   OIIO::paropt par(job.threads);
   double t_convert = 0, t_write = 0;
-  for (int y0 = 0; y0 < spec.height; y0 += strip) {
+  for (int y0 = 0, k = 0; y0 < spec.height; y0 += strip, ++k) {
     const int y1 = std::min(spec.height, y0 + strip);
+    std::vector<float>& outbuf = outbufs[k % 2];
     const std::size_t n = width * static_cast<std::size_t>(y1 - y0);
     auto t0 = Clock::now();
     if (!in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, 0, 0, nch, OIIO::TypeFloat,
@@ -418,17 +428,21 @@ ImageReport run_image_job(const ImageJobSettings& job, const ProgressFn& progres
         },
         par);
     auto t1 = Clock::now();
-    const bool ok =
-        job.tile > 0
-            ? out->write_tiles(spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0, 1,
-                               OIIO::TypeFloat, outbuf.data())
-            : out->write_scanlines(spec.y + y0, spec.y + y1, 0, OIIO::TypeFloat, outbuf.data());
-    if (!ok) throw Error("'" + job.output + "': write failed: " + out->geterror());
     t_convert += std::chrono::duration<double>(t1 - t0).count();
+    // Hand the strip to the writer once it has finished the previous one (two buffers).
+    if (writing.valid()) writing.get();
     t_write += seconds_since(t1);
+    writing = std::async(std::launch::async, [&, y0, y1, data = outbuf.data()] {
+      const bool ok =
+          job.tile > 0 ? out->write_tiles(spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0,
+                                          1, OIIO::TypeFloat, data)
+                       : out->write_scanlines(spec.y + y0, spec.y + y1, 0, OIIO::TypeFloat, data);
+      if (!ok) throw Error("'" + job.output + "': write failed: " + out->geterror());
+    });
     if (progress) progress(width * y1, width * spec.height);
   }
   auto t_close = Clock::now();
+  if (writing.valid()) writing.get();
   if (!out->close()) throw Error("'" + job.output + "': write failed: " + out->geterror());
   in->close();
   fs::rename(tmp.path, job.output, ec);
