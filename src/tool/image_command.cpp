@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "io/colour_space.h"
 #include "io/image_job.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -137,6 +138,12 @@ int run_image(const Options& opt) {
   job.output = opt.output;
   job.colorspace = opt.colorspace;
   job.config = opt.config;
+  // The config and the colour space are command-line values: check them up front.
+  const ColourSpaces spaces =
+      opt.config.empty() ? ColourSpaces::load()
+                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  if (!opt.colorspace.empty())
+    job.colorspace = flag_value("--colorspace", [&] { return spaces.resolve(opt.colorspace); });
   job.spectral = spectral_settings(opt);
   job.mode = opt.mode.empty() ? "auto" : opt.mode;
   if (job.mode != "auto") flag_value("--mode", [&] { return parse_mode(job.mode); });
