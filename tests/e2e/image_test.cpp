@@ -126,8 +126,8 @@ TEST(CliImage, HdriIsExactInFloatWithTheSpectralLayout) {
       for (const auto& b : bands) ASSERT_GE(e.at(x, y, b.first), 0.0f);  // non-negative
       // The preview is the spectrum's colour back in Linear Rec.709: the input again.
       for (int c = 0; c < 3; ++c)
-        worst_preview = std::max(
-            worst_preview, double(std::abs(e.at(x, y, c) - rgb[c]) / std::max({rgb[0], rgb[1], rgb[2]})));
+        worst_preview = std::max(worst_preview, double(std::abs(e.at(x, y, c) - rgb[c]) /
+                                                       std::max({rgb[0], rgb[1], rgb[2]})));
       ++checked;
     }
   EXPECT_GT(checked, 30000);
@@ -438,8 +438,8 @@ TEST(CliImageSlow, LargeMapRunsInBoundedMemory) {
                    big + " >/dev/null 2>&1")
                       .c_str()),
       0);
-  const std::string cmd = std::string(SPECTRALIZE_BINARY) + " " + big + " -o " + (s / "o.exr") +
-                          " -q";
+  const std::string cmd =
+      std::string(SPECTRALIZE_BINARY) + " " + big + " -o " + (s / "o.exr") + " -q";
   pid_t pid = fork();
   if (pid == 0) {
     execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
