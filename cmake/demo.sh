@@ -1,35 +1,33 @@
 #!/usr/bin/env bash
-# make demo: spectralizes the paper's two examples and a few colours, printing a summary of each.
+# make demo: spectralizes every file in testimages/ into build/demo/ and prints a summary of each
+# report, then the paper's two example colours.
 set -euo pipefail
 build="${1:-build}"
 bin="$build/spectralize"
 out="$build/demo"
 mkdir -p "$out"
 
-summary() {  # summary NAME JSON-FILE: one line from spectralize's own JSON (one field per line)
-  local name="$1" file="$2"
-  field() { sed -n "s/^  \"$1\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$file" | head -1; }
-  local values
-  values=$(sed -n '/"values": \[/,/\]/p' "$file" | sed '1d;$d' | tr -d ' ,')
-  printf '%-34s %-11s status=%-12s L=%6s K=%6s rel.err=%-8.1e min=%-10.4g max=%.4g\n' \
-    "$name" "$(field mode)" "$(field status)" "$(field admissible)" "$(field dropped)" \
-    "$(field relative_error)" "$(echo "$values" | sort -g | head -1)" \
-    "$(echo "$values" | sort -g | tail -1)"
-}
+# A field of a report (our own JSON: one "key": value per line).
+field() { sed -n "s/^  \"$1\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -1; }
 
-run() {  # run NAME ARGS...
-  local name="$1"; shift
-  local file="$out/$(echo "$name" | tr ' ,()/' '_____').json"
-  "$bin" "$@" --format json >"$file"
-  summary "$name" "$file"
-}
-
-echo "spectralize demo: spectra in $out/*.json"
-run "paper light (6000,5000,1000) lm" --color 6000,5000,1000
-run "paper surface (0.21,0.72,0.15)" --color 0.21,0.72,0.15 --mode reflectance
-run "white surface" --color 1,1,1 --mode reflectance
-run "ACEScg red light" --color 1,0,0 --colorspace ACEScg
-run "sRGB texel (200,30,40)/255" --color 0.784,0.118,0.157 --colorspace "sRGB - Texture" --mode reflectance
-run "Rec.2020 green, out of gamut" --color 0,1,0 --colorspace "Linear Rec.2020" --mode reflectance 2>/dev/null
-"$bin" --color 6000,5000,1000 >"$out/paper_light.csv"
-echo "CSV of the paper's light: $out/paper_light.csv ($(wc -l <"$out/paper_light.csv") lines)"
+echo "spectralize demo: testimages/* -> $out/*.exr (reports: $out/*.json)"
+printf '%-32s %-11s %-22s %9s %8s %7s %9s %7s\n' file mode colorspace pixels "out-gam" invalid "max err" seconds
+for f in testimages/*.exr testimages/*.hdr testimages/*.png; do
+  name=$(basename "$f")
+  "$bin" "$f" -o "$out/${name%.*}.exr" --report "$out/${name%.*}.json" -q
+  r="$out/${name%.*}.json"
+  printf '%-32s %-11s %-22s %9s %8s %7s %9.1e %7.2f\n' "$name" "$(field mode "$r")" \
+    "$(field colorspace "$r")" "$(field pixels "$r")" "$(field out_of_gamut_pixels "$r")" \
+    "$(field invalid_pixels "$r")" "$(field max_relative_xyz_error "$r")" \
+    "$(sed -n 's/^    "total": \([0-9.e-]*\)$/\1/p' "$r")"
+done
+echo "(max err: relative XYZ error of the written HALF samples; use --format float for ~1e-7)"
+echo
+echo "The paper's examples (spectralize --color ...):"
+for args in "6000,5000,1000" "0.21,0.72,0.15 --mode reflectance"; do
+  # shellcheck disable=SC2086
+  "$bin" --color $args --format json >"$out/color.json"
+  printf '  --color %-36s status=%s L=%s K=%s relative error=%s\n' "$args" \
+    "$(field status "$out/color.json")" "$(field admissible "$out/color.json")" \
+    "$(field dropped "$out/color.json")" "$(field relative_error "$out/color.json")"
+done
