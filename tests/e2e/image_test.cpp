@@ -347,6 +347,18 @@ TEST(CliImage, CacheIsReusedAndCorruptCachesAreRebuilt) {
   r = run(in + " -o " + (s / "d.exr") + " --cache " + cache);
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.err.find("ignored and rebuilt"), std::string::npos) << r.err;
+  // A foreign cache (an intact table made for a 10 nm grid) under this run's name: rejected.
+  const std::string other = s / "other";
+  ASSERT_EQ(run(in + " -o " + (s / "e.exr") + " --wavelengths 380:780:10 --cache " + other +
+                " --report " + (s / "e.json"))
+                .exit_code,
+            0);
+  fs::copy_file(read_json(s / "e.json")["cache"]["file"].get<std::string>(), file,
+                fs::copy_options::overwrite_existing);
+  r = run(in + " -o " + (s / "f.exr") + " --cache " + cache);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.err.find("made for other settings"), std::string::npos) << r.err;
+  EXPECT_EQ(e2e::read_exr(s / "a.exr").pixels, e2e::read_exr(s / "f.exr").pixels);
 }
 
 TEST(CliImage, TiledOutputHasTheSamePixels) {
