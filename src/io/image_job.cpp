@@ -339,7 +339,12 @@ ImageReport run_image_job(const ImageJobSettings& job, const ProgressFn& progres
   std::vector<PixelResult> results(width * strip);
   Counters total;
   std::mutex counters_mutex;
+  // --threads bounds our loops and OIIO's own pool (OpenEXR's compression threads included).
   OIIO::paropt par(job.threads);
+  if (job.threads > 0) {
+    OIIO::attribute("threads", job.threads);
+    OIIO::attribute("exr_threads", job.threads);
+  }
   double t_convert = 0, t_write = 0;
   for (int y0 = 0, k = 0; y0 < spec.height; y0 += strip, ++k) {
     const int y1 = std::min(spec.height, y0 + strip);
