@@ -226,8 +226,9 @@ PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
 void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,
-                            PixelResult* results) {
-  for (std::size_t i = 0; i < n; ++i) pixel(xyz_d65[i], out + i * bands_, results[i]);
+                            PixelResult* results, std::size_t stride) {
+  if (stride == 0) stride = bands_;
+  for (std::size_t i = 0; i < n; ++i) pixel(xyz_d65[i], out + i * stride, results[i]);
 }
 
 TableStats SpectralTable::stats() const {

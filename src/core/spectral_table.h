@@ -76,9 +76,10 @@ class SpectralTable {
   /// use of a node; a direct solve for pixels in cells that cross the gamut boundary.
   PixelResult spectrum(const Xyz& xyz_d65, float* out);
 
-  /// spectrum() for n pixels: out holds n * N floats, results n entries. Thread-safe.
-  /// Cost: as spectrum() per pixel.
-  void spectra(const Xyz* xyz_d65, std::size_t n, float* out, PixelResult* results);
+  /// spectrum() for n pixels: pixel i's N samples go to out + i * stride (stride >= N; 0 means
+  /// N), results has n entries. Thread-safe. Cost: as spectrum() per pixel, vectorised.
+  void spectra(const Xyz* xyz_d65, std::size_t n, float* out, PixelResult* results,
+               std::size_t stride = 0);
 
   /// Work done so far. Cost: O(1).
   TableStats stats() const;
