@@ -23,12 +23,23 @@ double piecewise_linear(const WavelengthGrid& grid, std::span<const double> valu
 Xyz integrate_reference(const WavelengthGrid& grid, std::span<const double> values,
                         const Observer& observer, const Illuminant* illuminant, double norm);
 
+/// Raw tristimulus weights (cmf * E * tent, trapezoid on the 1 nm tables, not normalised) of
+/// piecewise-linear spectra sampled at increasing wavelengths `nm` (any spacing; zero outside
+/// [nm.front(), nm.back()]). Throws Error unless nm is strictly increasing with >= 2 samples.
+/// Cost: O(471 log N + N).
+std::vector<Xyz> tent_weights(std::span<const double> nm, const Observer& observer,
+                              const Illuminant* illuminant);
+
 class SampleWeights {
  public:
   /// Emission weights (illuminant == nullptr; normalised by K = sum tau ybar, so a constant
   /// spectrum v has Y ~= v) or reflectance weights (normalised so rho == 1 has Y = 1).
   /// Cost: O(471 + N).
   SampleWeights(const WavelengthGrid& grid, const Observer& observer, const Illuminant* illuminant);
+  /// The same for arbitrary increasing wavelengths (e.g. a file's bands). Throws Error.
+  /// Cost: O(471 log N + N).
+  SampleWeights(std::span<const double> wavelengths_nm, const Observer& observer,
+                const Illuminant* illuminant);
 
   /// The weight vector (X, Y, Z) of each sample. Cost: O(1).
   const std::vector<Xyz>& columns() const { return columns_; }
@@ -38,10 +49,8 @@ class SampleWeights {
   Xyz unit_white() const { return white_; }
   /// The normalisation divided out of the raw sums. Cost: O(1).
   double normalisation() const { return norm_; }
-  const WavelengthGrid& grid() const { return grid_; }
 
  private:
-  WavelengthGrid grid_;
   std::vector<Xyz> columns_;
   Xyz white_;
   double norm_ = 1;
