@@ -61,6 +61,33 @@ using ProgressFn = std::function<void(std::uint64_t done, std::uint64_t total)>;
 /// Messages for people (warnings, -v details): level 0 warning, 1 info, 2 detail.
 using LogFn = std::function<void(int level, const std::string& message)>;
 
+/// The reverse job: a spectral OpenEXR (any writer's) to RGB(A).
+struct ToRgbSettings {
+  std::string input, output;
+  std::string colorspace = "Linear Rec.709 (sRGB)";
+  std::string observer = "cie1931";
+  std::string illuminant = "D65";  // reflective (T) files are seen under it
+  bool half = true;
+  std::string compression = "zip";
+  int threads = 0;
+  std::string config;
+  std::string date_time;
+};
+
+struct ToRgbReport {
+  std::string input, output, colorspace, kind;  // kind: "emissive" or "reflective"
+  int width = 0, height = 0, bands = 0;
+  double first_nm = 0, last_nm = 0;
+  bool polarised = false;  // S1..S3 were present (S0 used)
+  double seconds = 0;
+};
+
+/// Runs the reverse job, streamed and written like run_image_job. Throws Error naming the file
+/// (including for files without spectral channels or with inconsistent ones).
+/// Cost: O(pixels x bands).
+ToRgbReport run_to_rgb_job(const ToRgbSettings& settings, const ProgressFn& progress,
+                           const LogFn& log);
+
 /// Runs the job. Writes to a temporary file beside the output and renames it at the end, so
 /// the output is never partial; removes the temporary file on failure. Throws Error naming the
 /// file and the reason. Cost: O(pixels x bands), plus node solves on first use.

@@ -33,16 +33,23 @@ std::optional<SpectralChannel> parse_spectral_channel(std::string_view name) {
   auto r = std::from_chars(number.data(), number.data() + number.size(), value);
   if (r.ec != std::errc() || r.ptr != number.data() + number.size() || !std::isfinite(value))
     return std::nullopt;
-  // SI prefix, then the unit: metres, or hertz (converted through the speed of light).
-  static const std::pair<const char*, double> prefixes[] = {
-      {"Y", 1e24}, {"Z", 1e21}, {"E", 1e18}, {"P", 1e15}, {"T", 1e12}, {"G", 1e9},
-      {"M", 1e6},  {"k", 1e3},  {"h", 1e2},  {"da", 1e1}, {"d", 1e-1}, {"c", 1e-2},
-      {"m", 1e-3}, {"u", 1e-6}, {"n", 1e-9}, {"p", 1e-12}};
-  double scale = 1;
-  for (const auto& [p, f] : prefixes)
-    if (m[6].matched && m[6].str() == p) scale = f;
-  double si = value * scale;
-  double nm = m[7].str() == "Hz" ? 299792458.0 / si * 1e9 : si * 1e9;
+  // SI prefix, then the unit: metres (to nm by an exact power of ten, so "550,0nm" is exactly
+  // 550), or hertz (to nm through the speed of light).
+  static const std::pair<const char*, double> to_nm[] = {
+      {"Y", 1e33}, {"Z", 1e30}, {"E", 1e27}, {"P", 1e24}, {"T", 1e21}, {"G", 1e18},
+      {"M", 1e15}, {"k", 1e12}, {"h", 1e11}, {"da", 1e10}, {"", 1e9},  {"d", 1e8},
+      {"c", 1e7},  {"m", 1e6},  {"u", 1e3},  {"n", 1.0},   {"p", 1e-3}};
+  double factor = 0;
+  const std::string prefix = m[6].matched ? m[6].str() : std::string();
+  for (const auto& [p, f] : to_nm)
+    if (prefix == p) factor = f;
+  double nm = 0;
+  if (m[7].str() == "m") {
+    nm = value * factor;
+  } else {
+    const double hertz = value * factor * 1e-9;  // factor is relative to nano
+    nm = 299792458.0 / hertz * 1e9;
+  }
   if (!(nm > 0) || !std::isfinite(nm)) return std::nullopt;
   SpectralChannel c;
   c.kind = m[2].matched ? SpectralChannel::Kind::emissive : SpectralChannel::Kind::reflective;

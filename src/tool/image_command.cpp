@@ -114,6 +114,35 @@ void write_report(const std::string& path, const Json& j) {
   }
 }
 
+void check_compression(const std::string& compression) {
+  for (const char* c : kCompressions)
+    if (compression == c) return;
+  throw UsageError{fmt::format(
+      "--compression '{}': valid: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab",
+      compression)};
+}
+
+// SOURCE_DATE_EPOCH (the reproducible-builds convention) fixes the DateTime attribute, so the
+// output is byte-stable; empty means "now".
+std::string fixed_date_time() {
+  const char* epoch = std::getenv("SOURCE_DATE_EPOCH");
+  if (!epoch || !*epoch) return "";
+  std::time_t t = static_cast<std::time_t>(std::strtoll(epoch, nullptr, 10));
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y:%m:%d %H:%M:%S", std::gmtime(&t));
+  return buf;
+}
+
+// Warnings unless -q; stage details (levels 1 and 2) with -v.
+LogFn console_log(int verbosity) {
+  return [verbosity](int level, const std::string& message) {
+    if (level == 0 && verbosity > 0)
+      fmt::print(stderr, "spectralize WARNING: {}\n", message);
+    else if (level > 0 && verbosity >= 2)
+      fmt::print(stderr, "spectralize: {}\n", message);
+  };
+}
+
 bool ends_with_exr(const std::string& path) {
   if (path.size() < 4) return false;
   std::string ext = path.substr(path.size() - 4);
@@ -122,6 +151,46 @@ bool ends_with_exr(const std::string& path) {
 }
 
 }  // namespace
+
+int run_to_rgb(const Options& opt) {
+  if (opt.output.empty()) throw UsageError{"-o OUTPUT.exr is required"};
+  if (!ends_with_exr(opt.output))
+    throw UsageError{fmt::format("-o '{}': the output is an OpenEXR file (.exr)", opt.output)};
+  ToRgbSettings job;
+  job.input = opt.to_rgb;
+  job.output = opt.output;
+  job.config = opt.config;
+  const ColourSpaces spaces =
+      opt.config.empty() ? ColourSpaces::load()
+                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  job.colorspace = flag_value("--colorspace", [&] {
+    return spaces.resolve(opt.colorspace.empty() ? std::string(kDefaultColourSpace)
+                                                 : opt.colorspace);
+  });
+  job.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
+  job.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
+  const std::string format = opt.format.empty() ? "half" : opt.format;
+  if (format != "half" && format != "float")
+    throw UsageError{
+        fmt::format("--format '{}': valid formats for images are half, float", format)};
+  job.half = format == "half";
+  check_compression(opt.compression);
+  job.compression = opt.compression;
+  if (!opt.threads.empty()) job.threads = parse_int_flag("--threads", opt.threads, 1, 1024);
+  job.date_time = fixed_date_time();
+  const int verbosity = opt.verbosity;
+  LogFn log = console_log(verbosity);
+  ProgressBar bar(::isatty(STDERR_FILENO) && verbosity > 0);
+  ProgressFn progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
+  ToRgbReport r = run_to_rgb_job(job, progress, log);
+  if (verbosity > 0)
+    fmt::print(stderr,
+               "spectralize: '{}' -> '{}': {}x{}, {} {} bands {}..{} nm{} -> {}{}; {:.2f} s\n",
+               r.input, r.output, r.width, r.height, r.bands, r.kind, r.first_nm, r.last_nm,
+               r.polarised ? " (polarised: S0 used)" : "", r.colorspace,
+               r.kind == "reflective" ? " under " + job.illuminant : std::string(), r.seconds);
+  return kExitOk;
+}
 
 int run_image(const Options& opt) {
   // Validate every flag before any work (exit 2 on a mistake).
@@ -152,12 +221,7 @@ int run_image(const Options& opt) {
     throw UsageError{
         fmt::format("--format '{}': valid formats for images are half, float", format)};
   job.half = format == "half";
-  bool known = false;
-  for (const char* c : kCompressions) known = known || opt.compression == c;
-  if (!known)
-    throw UsageError{fmt::format(
-        "--compression '{}': valid: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab",
-        opt.compression)};
+  check_compression(opt.compression);
   job.compression = opt.compression;
   if (!opt.tile.empty()) job.tile = parse_int_flag("--tile", opt.tile, 16, 4096);
   if (opt.method != "table" && opt.method != "exact")
@@ -165,22 +229,10 @@ int run_image(const Options& opt) {
   job.method = opt.method == "table" ? SpectralTable::Method::table : SpectralTable::Method::exact;
   job.cache_dir = opt.cache;
   if (!opt.threads.empty()) job.threads = parse_int_flag("--threads", opt.threads, 1, 1024);
-  if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH"); epoch && *epoch) {
-    // Reproducible builds' convention: a fixed date makes the output byte-stable.
-    std::time_t t = static_cast<std::time_t>(std::strtoll(epoch, nullptr, 10));
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y:%m:%d %H:%M:%S", std::gmtime(&t));
-    job.date_time = buf;
-  }
+  job.date_time = fixed_date_time();
 
   const int verbosity = opt.verbosity;
-  // Warnings unless -q; stage details (levels 1 and 2) with -v.
-  LogFn log = [verbosity](int level, const std::string& message) {
-    if (level == 0 && verbosity > 0)
-      fmt::print(stderr, "spectralize WARNING: {}\n", message);
-    else if (level > 0 && verbosity >= 2)
-      fmt::print(stderr, "spectralize: {}\n", message);
-  };
+  LogFn log = console_log(verbosity);
   ProgressBar bar(::isatty(STDERR_FILENO) && verbosity > 0);
   ProgressFn progress = [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); };
 

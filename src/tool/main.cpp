@@ -73,6 +73,14 @@ int main(int argc, const char** argv) {
       .help("Quiet: no progress, summary or warnings")
       .action([&](OIIO::cspan<const char*>) { opt.verbosity = 0; });
 
+  ap.separator("Spectral to RGB:");
+  ap.arg("--to-rgb FILE")
+      .help(
+          "Integrate a spectral OpenEXR (S0 or T channels, any writer) back to RGB(A) in "
+          "--colorspace (default Linear Rec.709), reflective files under --illuminant; "
+          "write it with -o")
+      .action(store(opt.to_rgb));
+
   ap.separator("Single colours:");
   ap.arg("--color R,G,B")
       .help("Spectralize one colour (repeatable); prints the spectrum to stdout")
@@ -121,8 +129,9 @@ int main(int argc, const char** argv) {
     return kExitOk;
   }
   try {
-    if (!opt.colors.empty() && !opt.inputs.empty())
-      throw UsageError{"give either --color or an input image, not both"};
+    if (int(!opt.colors.empty()) + int(!opt.inputs.empty()) + int(!opt.to_rgb.empty()) > 1)
+      throw UsageError{"give one of --color, --to-rgb or an input image"};
+    if (!opt.to_rgb.empty()) return run_to_rgb(opt);
     if (!opt.colors.empty()) return run_color(opt);
     if (!opt.inputs.empty() || !opt.output.empty()) return run_image(opt);
     std::fprintf(stderr,

@@ -13,6 +13,7 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 struct Options {
   std::vector<std::string> colors;        // --color R,G,B (repeatable)
   std::vector<std::string> inputs;        // positional: the image to spectralize
+  std::string to_rgb;                     // --to-rgb IN.exr: a spectral EXR to RGB
   std::string output;                     // -o OUTPUT.exr
   std::string colorspace;                 // --colorspace NAME (empty: default / detected)
   std::string mode;                       // --mode (empty: emission for --color, auto for images)
@@ -39,6 +40,10 @@ struct UsageError {
 /// Runs `spectralize --color ...`: prints spectra to stdout, warnings to stderr. Returns the exit
 /// status; throws UsageError for malformed values. Cost: one exact solve per colour.
 int run_color(const Options& options);
+
+/// Runs `spectralize --to-rgb IN.exr -o OUT.exr ...`: a spectral OpenEXR (any writer's) back to
+/// RGB(A). Returns the exit status; throws UsageError / Error. Cost: O(pixels x bands).
+int run_to_rgb(const Options& options);
 
 /// Runs `spectralize INPUT -o OUTPUT.exr ...`: the image job, its console summary, progress and
 /// --report. Returns the exit status; throws UsageError for malformed values and Error when the
