@@ -36,8 +36,8 @@ std::optional<SpectralChannel> parse_spectral_channel(std::string_view name) {
   // SI prefix, then the unit: metres (to nm by an exact power of ten, so "550,0nm" is exactly
   // 550), or hertz (to nm through the speed of light).
   static const std::pair<const char*, double> to_nm[] = {
-      {"Y", 1e33}, {"Z", 1e30}, {"E", 1e27}, {"P", 1e24}, {"T", 1e21}, {"G", 1e18},
-      {"M", 1e15}, {"k", 1e12}, {"h", 1e11}, {"da", 1e10}, {"", 1e9},  {"d", 1e8},
+      {"Y", 1e33}, {"Z", 1e30}, {"E", 1e27}, {"P", 1e24},  {"T", 1e21}, {"G", 1e18},
+      {"M", 1e15}, {"k", 1e12}, {"h", 1e11}, {"da", 1e10}, {"", 1e9},   {"d", 1e8},
       {"c", 1e7},  {"m", 1e6},  {"u", 1e3},  {"n", 1.0},   {"p", 1e-3}};
   double factor = 0;
   const std::string prefix = m[6].matched ? m[6].str() : std::string();
