@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "io/image_job.h"
+#include "io/output_spec.h"
 #include "io/recipe.h"
 #include "io/rgb_from_spectral.h"
 #include "io/spectral_converter.h"
@@ -141,19 +142,8 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
       const auto spaces = spectralize::ColourSpaces::load(s.config);
       spectralize::RgbSettings rgb{spaces.resolve(s.colorspace), s.observer, s.illuminant};
       to_rgb_ = std::make_unique<spectralize::RgbFromSpectral>(layout, rgb, spaces);
-      m_spec = ImageSpec(src.width, src.height, to_rgb_->output_channels(),
-                         s.half ? TypeDesc::HALF : TypeDesc::FLOAT);
-      m_spec.x = src.x;
-      m_spec.y = src.y;
-      m_spec.full_x = src.full_x;
-      m_spec.full_y = src.full_y;
-      m_spec.full_width = src.full_width;
-      m_spec.full_height = src.full_height;
-      m_spec.channelnames = {"R", "G", "B"};
-      if (layout.alpha >= 0) {
-        m_spec.channelnames.push_back("A");
-        m_spec.alpha_channel = 3;
-      }
+      m_spec =
+          spectralize::output_spec_like(src, to_rgb_->output_channels(), s.half, layout.alpha >= 0);
       m_spec.attribute("compression", s.compression);
       m_spec.attribute("spectralize:colorspace", rgb.colorspace);
       if (!layout.emissive) m_spec.attribute("spectralize:illuminant", s.illuminant);

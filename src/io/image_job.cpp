@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/output_spec.h"
 #include "io/rgb_from_spectral.h"
 #include "io/spectral_converter.h"
 
@@ -185,19 +186,8 @@ ToRgbReport run_to_rgb_job(const ToRgbSettings& job, const ProgressFn& progress,
   if (layout.polarised)
     log(1, "'" + job.input + "': polarised: S0 (intensity) used, S1..S3 ignored");
 
-  OIIO::ImageSpec ospec(spec.width, spec.height, to_rgb.output_channels(),
-                        job.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-  ospec.x = spec.x;
-  ospec.y = spec.y;
-  ospec.full_x = spec.full_x;
-  ospec.full_y = spec.full_y;
-  ospec.full_width = spec.full_width;
-  ospec.full_height = spec.full_height;
-  ospec.channelnames = {"R", "G", "B"};
-  if (layout.alpha >= 0) {
-    ospec.channelnames.push_back("A");
-    ospec.alpha_channel = 3;
-  }
+  OIIO::ImageSpec ospec =
+      output_spec_like(spec, to_rgb.output_channels(), job.half, layout.alpha >= 0);
   ospec.attribute("compression", job.compression);
   ospec.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
   if (!job.date_time.empty()) ospec.attribute("DateTime", job.date_time);

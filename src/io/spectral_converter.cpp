@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "io/output_spec.h"
 #include "io/spectral_layout.h"
 
 namespace fs = std::filesystem;
@@ -221,19 +222,7 @@ SpectralConverter::SpectralConverter(const ImageJobSettings& job, const OIIO::Im
   preview_ = 3 + (rep.alpha ? 1 : 0);
   out_nch_ = preview_ + static_cast<int>(bands);
   OIIO::ImageSpec& ospec = out_spec_;
-  ospec = OIIO::ImageSpec(spec.width, spec.height, out_nch_,
-                          job.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-  ospec.x = spec.x;
-  ospec.y = spec.y;
-  ospec.full_x = spec.full_x;
-  ospec.full_y = spec.full_y;
-  ospec.full_width = spec.full_width;
-  ospec.full_height = spec.full_height;
-  ospec.channelnames = {"R", "G", "B"};
-  if (rep.alpha) {
-    ospec.channelnames.push_back("A");
-    ospec.alpha_channel = 3;
-  }
+  ospec = output_spec_like(spec, out_nch_, job.half, rep.alpha);
   const auto kind = settings.mode == Mode::emission ? SpectralChannel::Kind::emissive
                                                     : SpectralChannel::Kind::reflective;
   for (std::size_t i = 0; i < bands; ++i)

@@ -143,6 +143,21 @@ LogFn console_log(int verbosity) {
   };
 }
 
+// --format for images: HALF (default) or FLOAT samples.
+bool half_samples(const Options& opt) {
+  const std::string format = opt.format.empty() ? "half" : opt.format;
+  if (format != "half" && format != "float")
+    throw UsageError{
+        fmt::format("--format '{}': valid formats for images are half, float", format)};
+  return format == "half";
+}
+
+// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
+ColourSpaces load_config(const Options& opt) {
+  if (opt.config.empty()) return ColourSpaces::load();
+  return flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+}
+
 bool ends_with_exr(const std::string& path) {
   if (path.size() < 4) return false;
   std::string ext = path.substr(path.size() - 4);
@@ -160,20 +175,14 @@ int run_to_rgb(const Options& opt) {
   job.input = opt.to_rgb;
   job.output = opt.output;
   job.config = opt.config;
-  const ColourSpaces spaces =
-      opt.config.empty() ? ColourSpaces::load()
-                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  const ColourSpaces spaces = load_config(opt);
   job.colorspace = flag_value("--colorspace", [&] {
     return spaces.resolve(opt.colorspace.empty() ? std::string(kDefaultColourSpace)
                                                  : opt.colorspace);
   });
   job.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
   job.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
-  const std::string format = opt.format.empty() ? "half" : opt.format;
-  if (format != "half" && format != "float")
-    throw UsageError{
-        fmt::format("--format '{}': valid formats for images are half, float", format)};
-  job.half = format == "half";
+  job.half = half_samples(opt);
   check_compression(opt.compression);
   job.compression = opt.compression;
   if (!opt.threads.empty()) job.threads = parse_int_flag("--threads", opt.threads, 1, 1024);
@@ -208,19 +217,13 @@ int run_image(const Options& opt) {
   job.colorspace = opt.colorspace;
   job.config = opt.config;
   // The config and the colour space are command-line values: check them up front.
-  const ColourSpaces spaces =
-      opt.config.empty() ? ColourSpaces::load()
-                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  const ColourSpaces spaces = load_config(opt);
   if (!opt.colorspace.empty())
     job.colorspace = flag_value("--colorspace", [&] { return spaces.resolve(opt.colorspace); });
   job.spectral = spectral_settings(opt);
   job.mode = opt.mode.empty() ? "auto" : opt.mode;
   if (job.mode != "auto") flag_value("--mode", [&] { return parse_mode(job.mode); });
-  const std::string format = opt.format.empty() ? "half" : opt.format;
-  if (format != "half" && format != "float")
-    throw UsageError{
-        fmt::format("--format '{}': valid formats for images are half, float", format)};
-  job.half = format == "half";
+  job.half = half_samples(opt);
   check_compression(opt.compression);
   job.compression = opt.compression;
   if (!opt.tile.empty()) job.tile = parse_int_flag("--tile", opt.tile, 16, 4096);
