@@ -105,9 +105,7 @@ int run_color(const Options& opt) {
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
 
-  ColourSpaces spaces =
-      opt.config.empty() ? ColourSpaces::load()
-                         : flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  const ColourSpaces spaces = load_config(opt);
   std::string space = opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
   ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
 

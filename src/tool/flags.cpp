@@ -16,6 +16,11 @@ SpectralizerSettings spectral_settings(const Options& opt) {
   return s;
 }
 
+ColourSpaces load_config(const Options& opt) {
+  if (opt.config.empty()) return ColourSpaces::load();
+  return flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+}
+
 int parse_int_flag(const char* flag, const std::string& text, int min, int max) {
   int v = 0;
   auto r = std::from_chars(text.data(), text.data() + text.size(), v);

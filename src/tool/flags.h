@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/spectralizer.h"
+#include "io/colour_space.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -24,6 +25,10 @@ auto flag_value(const char* flag, Fn&& fn) {
 /// The grid, observer, illuminant and filter of the options (mode left to the caller).
 /// Cost: O(1).
 SpectralizerSettings spectral_settings(const Options& options);
+
+/// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
+/// Cost: parsing the config, ~ms.
+ColourSpaces load_config(const Options& options);
 
 /// Parses a whole number in [min, max] given to `flag`. Cost: O(length).
 int parse_int_flag(const char* flag, const std::string& text, int min, int max);

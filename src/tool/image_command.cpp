@@ -152,12 +152,6 @@ bool half_samples(const Options& opt) {
   return format == "half";
 }
 
-// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
-ColourSpaces load_config(const Options& opt) {
-  if (opt.config.empty()) return ColourSpaces::load();
-  return flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
-}
-
 bool ends_with_exr(const std::string& path) {
   if (path.size() < 4) return false;
   std::string ext = path.substr(path.size() - 4);
