@@ -232,7 +232,8 @@ class CutFinder {
 // The three passes over all admissible triples, compiled for AVX2 and baseline x86-64 (AVX-512
 // measured slower: rows are short, ~10 triples)
 // and picked at load time, so one binary is fast on any machine.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(SPECTRALIZE_NO_MULTIVERSION)
 #define SPECTRALIZE_MULTIVERSION __attribute__((target_clones("avx2", "default")))
 #else
 #define SPECTRALIZE_MULTIVERSION

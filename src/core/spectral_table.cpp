@@ -222,7 +222,8 @@ PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
 
 // The blend loops vectorise well: compiled for AVX2 (with FMA) and baseline x86-64, picked at
 // load time.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(SPECTRALIZE_NO_MULTIVERSION)
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
 void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,

@@ -43,7 +43,8 @@ Recipe parse_recipe(const std::string& text, const std::string& path,
   if (j.is_discarded()) {
     // Parse again to get the parser's own words about where it failed.
     try {
-      (void)Json::parse(text);
+      Json again = Json::parse(text);
+      (void)again;
     } catch (const Json::parse_error& e) {
       throw Error(where + "invalid JSON: " + e.what());
     }

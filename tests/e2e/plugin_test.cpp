@@ -17,7 +17,7 @@ using e2e::run;
 namespace {
 
 const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
-const std::string kPluginEnv = "OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR;
+const std::string kPluginEnv = "OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR " " SPECTRALIZE_TOOL_ENV;
 
 // XYZ -> Linear Rec.709, written out independently (inverse of the primaries' matrix).
 constexpr double kXyzTo709[3][3] = {{3.2409699419045226, -1.5373831775700939, -0.4986107602930034},
