@@ -3,7 +3,8 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo bench format format-check clean test-asan test-tsan
+.PHONY: all deps configure build test demo bench format format-check clean test-asan test-tsan fuzz
+FUZZ_SECONDS ?= 60
 
 all: build
 
@@ -30,6 +31,18 @@ test-tsan: deps
 	@cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECTRALIZE_SANITIZE=thread -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-tsan -j $(JOBS)
 	@cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/tests/tsan.supp" ctest --output-on-failure -j $(JOBS) -R "Thread|Cache|CliImage"
+
+# libFuzzer (clang) on the recipe, channel-name, --color and --wavelengths parsers, each for
+# FUZZ_SECONDS, from the seed corpus in tests/fuzz/corpus/ (new inputs go to build-fuzz/corpus/).
+fuzz: deps
+	@CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECTRALIZE_FUZZ=ON >/dev/null
+	@cmake --build build-fuzz -j $(JOBS)
+	@for t in recipe channel_name color wavelengths; do \
+	  mkdir -p build-fuzz/corpus/$$t; \
+	  echo "== fuzz_$$t ($(FUZZ_SECONDS) s)"; \
+	  build-fuzz/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	    build-fuzz/corpus/$$t tests/fuzz/corpus/$$t 2>&1 | grep -E "^(stat::number_of_executed_units|stat::new_units_added|==[0-9]+==ERROR|SUMMARY|Done)" ; \
+	done
 
 demo: deps build
 	@bash cmake/demo.sh $(BUILD_DIR)

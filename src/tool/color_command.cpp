@@ -22,40 +22,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-struct Rgb {
-  double r, g, b;
-  std::string text;
-};
-
-// Parses "R,G,B" into three finite numbers.
-Rgb parse_rgb(const std::string& text) {
-  std::vector<double> v;
-  std::size_t pos = 0;
-  while (true) {
-    std::size_t comma = text.find(',', pos);
-    std::string part =
-        text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    // Allow surrounding spaces ("0.2, 0.5, 0.1" quoted as one argument).
-    std::size_t b = part.find_first_not_of(' '), e = part.find_last_not_of(' ');
-    part = b == std::string::npos ? "" : part.substr(b, e - b + 1);
-    const char* first = part.data() + (part.size() > 0 && part[0] == '+' ? 1 : 0);
-    double x = 0;
-    auto r = std::from_chars(first, part.data() + part.size(), x);
-    if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
-      throw UsageError{fmt::format("--color '{}': '{}' is not a number", text, part)};
-    if (!std::isfinite(x))
-      throw UsageError{
-          fmt::format("--color '{}': components must be finite, got '{}'", text, part)};
-    v.push_back(x);
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  if (v.size() != 3)
-    throw UsageError{
-        fmt::format("--color '{}': expected 3 components R,G,B, got {}", text, v.size())};
-  return {v[0], v[1], v[2], text};
-}
-
 Json xyz_json(const Xyz& v) {
   return Json::array({v.X, v.Y, v.Z});
 }

@@ -26,6 +26,16 @@ auto flag_value(const char* flag, Fn&& fn) {
 /// Cost: O(1).
 SpectralizerSettings spectral_settings(const Options& options);
 
+/// A colour given as "R,G,B".
+struct Rgb {
+  double r, g, b;
+  std::string text;  // as given
+};
+
+/// Parses --color's "R,G,B": three finite numbers (spaces around them allowed); UsageError
+/// naming the value otherwise. Cost: O(length).
+Rgb parse_rgb(const std::string& text);
+
 /// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
 /// Cost: parsing the config, ~ms.
 ColourSpaces load_config(const Options& options);

@@ -1,0 +1,44 @@
+// libFuzzer target: the --color "R,G,B" parser, then the exact spectralizer on what it accepts
+// (10 nm, both modes): parsed values are finite, results never crash, accepted colours are
+// non-negative spectra, exact or flagged.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "core/spectralizer.h"
+#include "tool/flags.h"
+
+using namespace spectralize;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  static const Spectralizer emission([] {
+    SpectralizerSettings s;
+    s.grid = WavelengthGrid(380, 780, 10);
+    return s;
+  }());
+  static const Spectralizer reflectance([] {
+    SpectralizerSettings s;
+    s.grid = WavelengthGrid(380, 780, 10);
+    s.mode = Mode::reflectance;
+    return s;
+  }());
+  tool::Rgb rgb;
+  try {
+    rgb = tool::parse_rgb(text);
+  } catch (const tool::UsageError&) {
+    return 0;
+  }
+  if (!std::isfinite(rgb.r) || !std::isfinite(rgb.g) || !std::isfinite(rgb.b)) __builtin_trap();
+  const Xyz xyz{rgb.r, rgb.g, rgb.b};  // taken as XYZ: covers every direction
+  for (const Spectralizer* sp : {&emission, &reflectance}) {
+    SpectrumResult r = sp->spectralize(xyz);
+    for (double v : r.values)
+      if (!(v >= 0) || !std::isfinite(v)) __builtin_trap();
+    if ((r.status == Status::ok || r.status == Status::out_of_gamut) && r.target.max_abs() > 1e-300 &&
+        r.target.max_abs() < 1e300 && !(r.relative_error <= 1e-6))
+      __builtin_trap();
+  }
+  return 0;
+}
