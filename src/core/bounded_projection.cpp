@@ -122,38 +122,39 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
 
   Xyz nu, grad;
   Sym3 hess;
-  double psi = evaluate(nu, grad, &hess);
-  for (out.iterations = 0; out.iterations < 200; ++out.iterations) {
+  evaluate(nu, grad, &hess);
+  for (out.iterations = 0; out.iterations < 500; ++out.iterations) {
     if (grad.max_abs() <= tol) {
       out.converged = true;
       return out;
     }
-    // Damped Newton direction on the free set, then backtracking on the convex objective; if
-    // that finds no descent, a gradient step of 1/L, which always descends.
-    Xyz trial_grad;
-    Sym3 trial_hess;
-    double trial_psi = 0;
-    bool accepted = false;
-    for (int attempt = 0; attempt < 2 && !accepted; ++attempt) {
-      Xyz step =
-          attempt == 0 ? solve_regularised(hess, Xyz{} - grad, mu) : (-1.0 / lipschitz) * grad;
-      double slope = dot(grad, step);
-      if (!(slope < 0)) continue;
-      double t = 1.0;
-      for (int ls = 0; ls < 60; ++ls, t *= 0.5) {
-        trial_hess = Sym3{};
-        trial_psi = evaluate(nu + t * step, trial_grad, &trial_hess);
-        if (trial_psi <= psi + 1e-4 * t * slope || trial_grad.max_abs() <= tol) {
-          accepted = true;
-          nu = nu + t * step;
-          break;
-        }
+    // Damped Newton direction on the free set (or the gradient, if that is no descent), then
+    // an exact line search on the directional derivative step . grad(nu + t step), which
+    // increases with t (psi is convex): bisection on its sign. Working on gradients, not on
+    // psi's values, keeps it accurate when psi is large and its decrease is tiny (targets near
+    // the boundary of the feasible set).
+    Xyz step = solve_regularised(hess, Xyz{} - grad, mu);
+    if (!(dot(grad, step) < 0)) step = (-1.0 / lipschitz) * grad;
+    if (!(dot(grad, step) < 0)) break;
+    Xyz g;
+    Sym3 h;
+    double t = 1.0;
+    evaluate(nu + step, g, &h);
+    if (dot(g, step) > 0) {
+      double lo = 0, hi = 1;
+      for (int k = 0; k < 50; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        evaluate(nu + mid * step, g, nullptr);
+        (dot(g, step) > 0 ? hi : lo) = mid;
       }
+      t = lo;             // the last point where psi still descends
+      if (t == 0) break;  // no progress possible in this direction
+      h = Sym3{};
+      evaluate(nu + t * step, g, &h);
     }
-    if (!accepted) break;  // no descent left: numerically stuck (e.g. infeasible target)
-    psi = trial_psi;
-    grad = trial_grad;
-    hess = trial_hess;
+    nu = nu + t * step;
+    grad = g;
+    hess = h;
   }
   evaluate(nu, grad, nullptr);
   out.converged = grad.max_abs() <= tol;

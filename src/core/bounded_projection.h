@@ -20,7 +20,7 @@ struct Projection {
 
 /// Solves min ||x - start||^2 s.t. W x = target, 0 <= x <= upper by a globally convergent
 /// semismooth Newton method on the 3-dimensional dual (x = clamp(start + W^T nu)). Capped at
-/// 200 iterations, so it always returns. Cost: O(N) per iteration, typically 2..10 iterations.
+/// 500 iterations, so it always returns. Cost: O(N) per iteration, typically 2..10 iterations.
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
                          const Xyz& target, double upper = std::numeric_limits<double>::infinity());
 

@@ -29,9 +29,11 @@ double chromaticity_distance(const Xyz& a, const Xyz& b) {
   return std::hypot(a.X / sa - b.X / sb, a.Y / sa - b.Y / sb);
 }
 
-// Fraction of the way back from the boundary: keeps mapped targets strictly inside, where
-// the fan of admissible triangles and the bounded projection are well conditioned.
-constexpr double kGamutMargin = 1e-6;
+// Fraction of the way back from the boundary: keeps mapped targets strictly inside, where the
+// fan of admissible triangles (locus) and the bounded projection (solid; its solutions near
+// the boundary converge slowly, found by fuzzing) are well conditioned.
+constexpr double kLocusMargin = 1e-6;
+constexpr double kSolidMargin = 1e-4;
 
 // Relative XYZ change up to which a gamut mapping counts as snapping (float input precision).
 constexpr double kSnapTolerance = 1e-6;
@@ -91,7 +93,8 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   // Moves t toward `anchor` (inside) until it is inside `gamut`, a hair short of the boundary.
   auto move_toward = [&](const ConvexGamut& gamut, const Xyz& anchor) {
     if (gamut.contains(t)) return;
-    double s = std::max(0.0, gamut.max_step(anchor, t) - kGamutMargin);
+    const double margin = &gamut == &locus_ ? kLocusMargin : kSolidMargin;
+    double s = std::max(0.0, gamut.max_step(anchor, t) - margin);
     t = anchor + s * (t - anchor);
   };
   // 1. Chromaticity outside the spectral locus: toward the white at the same luminance. The

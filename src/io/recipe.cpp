@@ -45,7 +45,7 @@ Recipe parse_recipe(const std::string& text, const std::string& path,
     try {
       Json again = Json::parse(text);
       (void)again;
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // parse errors, and numbers out of range
       throw Error(where + "invalid JSON: " + e.what());
     }
     throw Error(where + "invalid JSON");

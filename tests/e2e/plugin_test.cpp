@@ -315,6 +315,9 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadRecipe{"InvalidJson", R"({"source": "grey.png",)", "invalid JSON"},
         BadRecipe{"NotAnObject", R"(["grey.png"])", "JSON object"},
+        // Found by fuzzing: a number too large for a double escaped as an uncaught exception.
+        BadRecipe{"NumberOverflow", R"({"source": "grey.png", "threads": 1E110000000000})",
+                  "invalid JSON"},
         BadRecipe{"UnknownKey", R"({"source": "grey.png", "colour": "x"})", "unknown key 'colour'"},
         BadRecipe{"BadGrid", R"({"source": "grey.png", "wavelengths": "780:380:5"})",
                   "key 'wavelengths'"},

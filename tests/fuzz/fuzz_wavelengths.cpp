@@ -11,8 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     spectralize::WavelengthGrid g = spectralize::WavelengthGrid::parse(text);
-    if (g.size() < 3 || g.start() < 360 || g.end() > 830 + 1e-6 || g.step() < 0.5)
-      __builtin_trap();
+    if (g.size() < 3 || g.start() < 360 || g.end() > 830 + 1e-6 || g.step() < 0.5) __builtin_trap();
     if (!(spectralize::WavelengthGrid::parse(g.to_string()) == g)) __builtin_trap();
   } catch (const spectralize::Error&) {
   }

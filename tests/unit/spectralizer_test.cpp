@@ -496,6 +496,25 @@ TEST(Spectralizer, ReflectanceBrighterThanWhiteIsDimmed) {
   }
 }
 
+TEST(Spectralizer, BrightColourOutsideTheLocusAsAReflectanceIsMappedExactly) {
+  // Found by fuzzing: XYZ (52.1, 2.1, 0.15) is outside the locus and far too bright; mapped to
+  // the locus, then dimmed into the reflectance solid, its target sat 1e-6 from the solid's
+  // boundary, where the bounded projection stalled at 2e-5. With the solid's margin of 1e-4 the
+  // result is exact to double precision (1e-9 with margin) and bounded.
+  SpectralizerSettings s;
+  s.grid = WavelengthGrid(380, 780, 10);
+  s.mode = Mode::reflectance;
+  const Spectralizer sp(s);
+  const SpectrumResult r = sp.spectralize(Xyz{52.1, 2.1, 0.15});
+  EXPECT_EQ(r.status, Status::out_of_gamut);
+  EXPECT_TRUE(sp.in_gamut(r.target));
+  EXPECT_LE(r.relative_error, 1e-9);
+  for (double v : r.values) {
+    EXPECT_GE(v, 0.0);
+    EXPECT_LE(v, 1.0);
+  }
+}
+
 // --- Other observers and grids ---
 
 TEST(Spectralizer, Cie1964ObserverIsExact) {
