@@ -91,11 +91,14 @@ std::pair<double, double> stream(OIIO::ImageInput& in, const std::string& input,
 
   // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows) or tiles, so that
   // OpenEXR compresses many blocks of a strip in parallel while we compute the next strip.
+  // Very wide scanline images go a row at a time (OpenEXR gathers its blocks itself), so
+  // memory stays bounded whatever the width.
   const std::size_t width = static_cast<std::size_t>(spec.width);
-  const int unit = tile > 0 ? tile : 16;
   const std::size_t bytes_per_row = width * static_cast<std::size_t>(out_nch) * sizeof(float);
-  const int strip = unit * static_cast<int>(std::clamp<std::size_t>(
-                               (24u << 20) / (bytes_per_row * unit), 1, std::max(1, 512 / unit)));
+  const std::size_t budget = 24u << 20;
+  const int unit = tile > 0 ? tile : (bytes_per_row * 16 > budget ? 1 : 16);
+  const int strip = unit * static_cast<int>(std::clamp<std::size_t>(budget / (bytes_per_row * unit),
+                                                                    1, std::max(1, 512 / unit)));
   std::vector<float> inbuf(width * strip * nch);
   std::vector<float> outbufs[2] = {std::vector<float>(width * strip * out_nch),
                                    std::vector<float>(width * strip * out_nch)};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 
 #include "core/error.h"
 #include "io/output_spec.h"
@@ -343,8 +344,12 @@ void SpectralConverter::convert(const float* in, std::size_t n, float* out) {
           q[2] = Z * unbalance_[2];
         }
         to_preview_->apply(preview.data(), m);
+        // The preview is written in the same sample type: keep it within HALF's range too
+        // (a clamped pixel is already counted as a HALF overflow).
+        const float limit = job_.half ? 65504.0f : std::numeric_limits<float>::max();
         for (std::size_t k = 0; k < m; ++k)
-          for (int ch = 0; ch < 3; ++ch) first[k * out_nch + ch] = preview[k * 3 + ch];
+          for (int ch = 0; ch < 3; ++ch)
+            first[k * out_nch + ch] = std::clamp(preview[k * 3 + ch], -limit, limit);
         std::lock_guard<std::mutex> lock(mutex_);
         total_->add(c);
       },

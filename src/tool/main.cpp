@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/argparse.h>
 
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -23,6 +24,9 @@ auto store(std::string& field) {
 }  // namespace
 
 int main(int argc, const char** argv) {
+  // Past a file-size limit (ulimit -f) a write should fail with EFBIG, reported and cleaned up,
+  // not kill the process with SIGXFSZ and leave a partial temporary file behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   Options opt;
   OIIO::ArgParse ap;
   ap.intro("spectralize " SPECTRALIZE_VERSION
