@@ -203,13 +203,20 @@ inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& re
   // Emission nodes are spectra of X+Y+Z = 1: scale by the pixel's S.
   const float scale = ns_ > 1 ? 1.0f : static_cast<float>(S);
   for (int c = 0; c < corners; ++c) w[c] *= scale;
-  if (corners == 4) {
-    for (std::size_t i = 0; i < bands_; ++i)
-      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i];
-  } else {
-    for (std::size_t i = 0; i < bands_; ++i)
-      out[i] = w[0] * p[0][i] + w[1] * p[1][i] + w[2] * p[2][i] + w[3] * p[3][i] + w[4] * p[4][i] +
-               w[5] * p[5][i] + w[6] * p[6][i] + w[7] * p[7][i];
+  // The output never aliases the node spectra (restrict): the blend vectorises without checks.
+  float* __restrict o = out;
+  const float w0 = w[0], w1 = w[1], w2 = w[2], w3 = w[3];
+  const float* __restrict p0 = p[0], * __restrict p1 = p[1], * __restrict p2 = p[2], * __restrict p3 = p[3];
+  const std::size_t n = bands_;
+  for (std::size_t i = 0; i < n; ++i) o[i] = w0 * p0[i] + w1 * p1[i] + w2 * p2[i] + w3 * p3[i];
+  if (corners == 8) {
+    // The upper layer in a second pass: eight streams at once would spill registers.
+    const float w4 = w[4], w5 = w[5], w6 = w[6], w7 = w[7];
+    const float* __restrict p4 = p[4];
+    const float* __restrict p5 = p[5];
+    const float* __restrict p6 = p[6];
+    const float* __restrict p7 = p[7];
+    for (std::size_t i = 0; i < n; ++i) o[i] += w4 * p4[i] + w5 * p5[i] + w6 * p6[i] + w7 * p7[i];
   }
   res.target = t;
 }
