@@ -24,23 +24,8 @@ namespace {
 
 const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::path(::testing::TempDir()) /
-          ("spectralize_hard_" + std::to_string(::getpid()) + "_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
-  std::vector<std::string> files() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
+struct Scratch : e2e::Scratch {
+  Scratch() : e2e::Scratch("spectralize_hard") {}
 };
 
 void write_exr(const std::string& path, int w, int h, const std::vector<float>& rgb) {

@@ -39,24 +39,8 @@ double srgb_decode(double v) {
 }
 
 // A scratch folder per test, removed at the end.
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::path(::testing::TempDir()) /
-          ("spectralize_img_" + std::to_string(::getpid()) + "_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
-  // Files other than the expected ones: temporary leftovers.
-  std::vector<std::string> files() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
+struct Scratch : e2e::Scratch {
+  Scratch() : e2e::Scratch("spectralize_img") {}
 };
 
 Json read_json(const std::string& path) {

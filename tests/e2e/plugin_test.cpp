@@ -25,21 +25,8 @@ constexpr double kXyzTo709[3][3] = {{3.2409699419045226, -1.5373831775700939, -0
                                     {0.0556300796969937, -0.2039769588889765, 1.0569715142428786}};
 constexpr double kD65[3] = {0.3127 / 0.3290, 1.0, 0.3583 / 0.3290};
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::path(::testing::TempDir()) /
-          ("spectralize_plugin_" + std::to_string(::getpid()) + "_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
+struct Scratch : e2e::Scratch {
+  Scratch() : e2e::Scratch("spectralize_plugin") {}
 };
 
 // Runs a shell command with the plugin on OIIO's search path.
