@@ -4,6 +4,8 @@
 
 #include <sys/wait.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -72,6 +74,27 @@ inline Run run(const std::string& args, const std::string& env = "") {
   std::remove((base + ".out").c_str());
   std::remove((base + ".err").c_str());
   return r;
+}
+
+/// Runs a shell command as a child process and returns its exit code (-1 if it did not exit)
+/// and its peak resident memory in MB. Cost: the command's.
+struct Measured {
+  int exit_code = -1;
+  double peak_mb = 0;
+};
+inline Measured run_measured(const std::string& command) {
+  Measured m;
+  pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  struct rusage usage {};
+  if (wait4(pid, &status, 0, &usage) != pid) return m;
+  m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  m.peak_mb = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+  return m;
 }
 
 /// A table of data/*.csv: wavelengths and the named columns, read independently of the library.

@@ -439,17 +439,9 @@ TEST(CliImageSlow, LargeMapRunsInBoundedMemory) {
       0);
   const std::string cmd =
       std::string(SPECTRALIZE_BINARY) + " " + big + " -o " + (s / "o.exr") + " -q";
-  pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
-    _exit(127);
-  }
-  int status = 0;
-  struct rusage usage {};
-  ASSERT_EQ(wait4(pid, &status, 0, &usage), pid);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0);
-  const double peak_mb = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+  const e2e::Measured m = e2e::run_measured(cmd);
+  EXPECT_EQ(m.exit_code, 0);
+  const double peak_mb = m.peak_mb;
   std::printf("  4096x2048 -> 81 bands: peak RSS %.0f MB\n", peak_mb);
   EXPECT_LE(peak_mb, 500.0);
   int width = 0;
