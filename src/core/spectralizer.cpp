@@ -23,6 +23,35 @@ std::vector<double> wavelengths_of(const WavelengthGrid& grid) {
   return nm;
 }
 
+// The emission basis on the grid: 1 (flat; any reflectance) or the illuminant, linearly
+// interpolated on its 1 nm table and scaled so that basis * 1 has Y = 1.
+std::vector<double> basis_of(const SpectralizerSettings& s, const SampleWeights& weights) {
+  std::vector<double> basis(s.grid.size(), 1.0);
+  std::string name = s.emission_basis;
+  for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (name == "flat") return basis;
+  const Illuminant il = Illuminant::get(s.emission_basis);  // throws for unknown names
+  if (s.mode != Mode::emission) return basis;
+  double y = 0;
+  for (std::size_t i = 0; i < basis.size(); ++i) {
+    const double pos = std::clamp(s.grid[i] - ReferenceTable::kStartNm, 0.0,
+                                  static_cast<double>(ReferenceTable::kSize - 1));
+    const std::size_t k = std::min(static_cast<std::size_t>(pos), ReferenceTable::kSize - 2);
+    const double f = pos - static_cast<double>(k);
+    basis[i] = std::max(0.0, (1 - f) * il.spd[k] + f * il.spd[k + 1]);
+    y += basis[i] * weights.columns()[i].Y;
+  }
+  if (!(y > 0)) throw Error("emission basis '" + s.emission_basis + "' has no light on the grid");
+  for (double& b : basis) b /= y;
+  return basis;
+}
+
+std::vector<Xyz> scaled_columns(const SampleWeights& weights, const std::vector<double>& basis) {
+  std::vector<Xyz> columns = weights.columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) columns[i] = basis[i] * columns[i];
+  return columns;
+}
+
 double chromaticity_distance(const Xyz& a, const Xyz& b) {
   double sa = a.sum(), sb = b.sum();
   if (!(sa > 0) || !(sb > 0)) return 0;
@@ -50,6 +79,16 @@ Mode parse_mode(std::string_view text) {
   throw Error("unknown mode '" + std::string(text) + "' (valid: emission, reflectance)");
 }
 
+std::string_view to_string(Model model) {
+  return model == Model::paper ? "paper" : "smooth";
+}
+
+Model parse_model(std::string_view text) {
+  if (text == "paper") return Model::paper;
+  if (text == "smooth") return Model::smooth;
+  throw Error("unknown model '" + std::string(text) + "' (valid: paper, smooth)");
+}
+
 std::string_view to_string(Status status) {
   switch (status) {
     case Status::ok:
@@ -73,13 +112,25 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
       observer_(&Observer::get(settings_.observer)),
       illuminant_(illuminant_for(settings_)),
       weights_(settings_.grid, *observer_, illuminant_.get()),
-      solver_(weights_.columns(), wavelengths_of(settings_.grid)),
-      locus_(ConvexGamut::spectral_locus(weights_.columns())),
+      basis_(basis_of(settings_, weights_)),
+      basis_columns_(scaled_columns(weights_, basis_)),
+      basis_white_(weights_.integrate(basis_)),
+      solver_(basis_columns_, wavelengths_of(settings_.grid)),
+      locus_(ConvexGamut::spectral_locus(basis_columns_)),
       gamut_(settings_.mode == Mode::emission ? locus_
                                               : ConvexGamut::reflectance_solid(weights_.columns())),
       white_balance_{1, 1, 1} {
-  if (settings_.mode == Mode::reflectance) {
-    Xyz ref = weights_.unit_white();
+  if (settings_.model == Model::smooth)
+    smooth_ = std::make_unique<SmoothSolver>(
+        basis_columns_, Roughness::of_length(settings_.curvature_nm, settings_.grid.step()));
+  // Eq. 6: the white of the input (D65) becomes the white of the spectra: the reference
+  // illuminant's perfect reflector, or, for emission with an illuminant basis, that
+  // illuminant's light ("solved like a reflectance"; with D65 the change is ~1e-4, the
+  // rounding of D65's xy in colour-space definitions).
+  const bool basis = *std::min_element(basis_.begin(), basis_.end()) != 1.0 ||
+                     *std::max_element(basis_.begin(), basis_.end()) != 1.0;
+  if (settings_.mode == Mode::reflectance || basis) {
+    const Xyz ref = settings_.mode == Mode::reflectance ? weights_.unit_white() : basis_white_;
     white_balance_ = {ref.X / kWhiteD65.X, ref.Y / kWhiteD65.Y, ref.Z / kWhiteD65.Z};
   }
 }
@@ -103,7 +154,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   if (!locus_.contains(t)) {
     r.outside_locus = true;
     Xyz white = reflectance ? weights_.unit_white() : kWhiteD65;
-    if (!locus_.contains(white)) white = weights_.unit_white();
+    if (!locus_.contains(white)) white = basis_white_;
     move_toward(locus_, (t.Y / white.Y) * white);
     what = "outside the spectral locus: desaturated toward white at constant luminance";
   }
@@ -193,12 +244,13 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
     return r;
   }
 
-  // A reflectance white (within float precision) is the perfect reflector, exactly: near that
-  // vertex of the solid the projection pins XYZ but not the samples the eye barely sees.
-  if (settings_.mode == Mode::reflectance &&
-      relative_error(requested, weights_.unit_white()) <= kSnapTolerance) {
-    r.values.assign(n, 1.0);
-    r.target = weights_.unit_white();
+  // The colour of s == 1 (reflectance: white, the perfect reflector; emission: the flat
+  // spectrum or the basis illuminant), within float precision, is exactly that spectrum
+  // scaled: near it the solvers pin XYZ but not the samples the eye barely sees.
+  const double white_scale = settings_.mode == Mode::reflectance ? 1.0 : requested.Y;
+  if (relative_error(requested, white_scale * basis_white_) <= kSnapTolerance) {
+    for (std::size_t i = 0; i < n; ++i) r.values[i] = white_scale * basis_[i];
+    r.target = white_scale * basis_white_;
     r.xyz = weights_.integrate(r.values);
     r.relative_error = relative_error(r.xyz, r.target);
     r.status = Status::ok;
@@ -206,6 +258,21 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
     return r;
   }
 
+  const double upper = settings_.mode == Mode::reflectance ? 1.0 : INFINITY;
+  Projection proj = smooth_ ? solve_smooth(t, upper) : solve_paper(t, upper, r);
+  // Back from s to the spectrum (a no-op for reflectances and flat emission).
+  r.values = std::move(proj.values);
+  for (std::size_t i = 0; i < n; ++i) r.values[i] *= basis_[i];
+  r.xyz = weights_.integrate(r.values);
+  r.relative_error = relative_error(r.xyz, t);
+  if (!proj.converged && !(r.relative_error <= 1e-9)) {
+    r.message += (r.message.empty() ? "" : "; ") +
+                 std::string("the exact solver did not converge (relative error reported)");
+  }
+  return r;
+}
+
+Projection Spectralizer::solve_paper(const Xyz& t, double upper, SpectrumResult& r) const {
   // The paper's average of admissible partial solutions, edge-filtered.
   PaperSpectrum paper = solver_.solve(t, settings_.filter);
   r.admissible = paper.admissible;
@@ -214,14 +281,12 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
   // Exact to double precision: the paper's average is exact in exact arithmetic, so a tiny
   // relative polish suffices. If that fails, or a reflectance exceeds 1, the fallback is the
   // closest spectrum that is exact, non-negative and <= 1 (bounded projection).
-  const double upper = settings_.mode == Mode::reflectance ? 1.0 : INFINITY;
   Projection proj;
   proj.values = paper.values;
-  proj.converged = polish_exact(weights_.columns(), proj.values, t);
+  proj.converged = polish_exact(basis_columns_, proj.values, t);
   const double peak = *std::max_element(proj.values.begin(), proj.values.end());
   r.bounded = settings_.mode == Mode::reflectance && peak > 1.0;
-  if (!proj.converged || peak > upper)
-    proj = project_exact(weights_.columns(), paper.values, t, upper);
+  if (!proj.converged || peak > upper) proj = project_exact(basis_columns_, paper.values, t, upper);
 
   // Filter "auto": if even the ladder's last step leaves an edge peak (saturated colours that
   // need light near an end of the range), cap the edge bands below the interior mean by the
@@ -229,20 +294,22 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
   if (settings_.filter.kind() == EdgeFilter::Kind::automatic && proj.converged &&
       !solver_.free_of_edge_peaks(proj.values)) {
     std::vector<double> bounds = edge_caps(proj.values, upper);
-    Projection capped = project_exact(weights_.columns(), proj.values, t, bounds);
+    Projection capped = project_exact(basis_columns_, proj.values, t, bounds);
     if (capped.converged && solver_.free_of_edge_peaks(capped.values)) {
       proj = std::move(capped);
       r.edge_capped = true;
     }
   }
-  r.values = std::move(proj.values);
-  r.xyz = weights_.integrate(r.values);
-  r.relative_error = relative_error(r.xyz, t);
-  if (!proj.converged && !(r.relative_error <= 1e-9)) {
-    r.message += (r.message.empty() ? "" : "; ") +
-                 std::string("the exact solver did not converge (relative error reported)");
-  }
-  return r;
+  return proj;
+}
+
+Projection Spectralizer::solve_smooth(const Xyz& t, double upper) const {
+  SmoothSpectrum smooth = smooth_->solve(t, upper);
+  Projection proj;
+  proj.values = std::move(smooth.values);
+  proj.converged = smooth.converged;
+  proj.iterations = smooth.iterations;
+  return proj;
 }
 
 }  // namespace spectralize

@@ -11,11 +11,13 @@
 #include <string_view>
 #include <vector>
 
+#include "core/bounded_projection.h"
 #include "core/colorimetry.h"
 #include "core/edge_filter.h"
 #include "core/gamut.h"
 #include "core/paper_solver.h"
 #include "core/sample_weights.h"
+#include "core/smooth_solver.h"
 #include "core/wavelength_grid.h"
 #include "core/xyz.h"
 
@@ -27,6 +29,18 @@ enum class Mode { emission, reflectance };
 std::string_view to_string(Mode mode);
 /// Parses "emission" | "reflectance"; throws Error. Cost: O(1).
 Mode parse_mode(std::string_view text);
+
+/// How a spectrum is chosen among the exact ones: the paper's average of admissible partial
+/// solutions, or the smoothest exact spectrum within the bounds (least roughness, see README).
+enum class Model { paper, smooth };
+
+/// "paper" / "smooth". Cost: O(1).
+std::string_view to_string(Model model);
+/// Parses "paper" | "smooth"; throws Error. Cost: O(1).
+Model parse_model(std::string_view text);
+
+/// The smooth model's default curvature length tau (chosen by measurement; see README).
+inline constexpr double kDefaultCurvatureNm = 50;
 
 enum class Status {
   ok,            // exact spectrum of the input colour
@@ -48,8 +62,15 @@ struct SpectralizerSettings {
   WavelengthGrid grid;               // default 380:780:5
   std::string observer = "cie1931";  // cie1931 | cie1964
   Mode mode = Mode::emission;
-  std::string illuminant = "D65";  // reference illuminant of reflectances
-  EdgeFilter filter = default_edge_filter();
+  std::string illuminant = "D65";             // reference illuminant of reflectances
+  EdgeFilter filter = default_edge_filter();  // paper model only
+  Model model = Model::paper;
+  // Emission only: "flat" (phi >= 0 free per sample) or an illuminant name, e.g. "D65": the
+  // spectrum is E(lambda) s(lambda) with s >= 0, and the input white (D65) is balanced to E's
+  // colour like a reflectance's (eq. 6), so white light becomes E itself.
+  std::string emission_basis = "flat";
+  // Smooth model only: tau in the roughness integral of x'^2 + tau^2 x''^2 (nm); 0 = slope only.
+  double curvature_nm = kDefaultCurvatureNm;
 };
 
 struct SpectrumResult {
@@ -97,6 +118,8 @@ class Spectralizer {
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }
+  /// The emission basis on the grid (all 1 unless an illuminant basis). Cost: O(1).
+  const std::vector<double>& basis() const { return basis_; }
   const Observer& observer() const { return *observer_; }
   /// The reference illuminant (reflectance mode) or nullptr (emission). Cost: O(1).
   const Illuminant* illuminant() const { return illuminant_.get(); }
@@ -106,6 +129,11 @@ class Spectralizer {
   /// outside the locus toward white at constant Y; reflectance with Y > 1 toward black (keeps the
   /// chromaticity); still outside the solid toward white at constant Y. Cost: O(facets).
   Xyz map_into_gamut(const Xyz& target, SpectrumResult& r) const;
+  /// The paper model's spectrum s of a target inside the gamut (filter, polish, bounds, edge
+  /// caps); records L, K and flags in `r`. Cost: ~O(N^2 + L).
+  Projection solve_paper(const Xyz& t, double upper, SpectrumResult& r) const;
+  /// The smooth model's spectrum s of a target inside the gamut. Cost: ~10 us at 5 nm.
+  Projection solve_smooth(const Xyz& t, double upper) const;
   /// Upper bounds that cap the edge bands at 0.9 of the interior mean. Cost: O(N).
   std::vector<double> edge_caps(std::span<const double> spectrum, double upper) const;
 
@@ -113,7 +141,13 @@ class Spectralizer {
   const Observer* observer_;
   std::unique_ptr<Illuminant> illuminant_;
   SampleWeights weights_;
+  // The solvers work on s with spectrum = basis * s: basis 1 (reflectance, flat emission) or
+  // an illuminant scaled to Y = 1; their weights are the columns scaled by the basis.
+  std::vector<double> basis_;
+  std::vector<Xyz> basis_columns_;
+  Xyz basis_white_;  // W . basis: the colour of s == 1
   PaperSolver solver_;
+  std::unique_ptr<SmoothSolver> smooth_;  // model smooth only
   ConvexGamut locus_;  // the cone of the weights: chromaticities any spectrum can have
   ConvexGamut gamut_;  // emission: the locus; reflectance: the solid
   Xyz white_balance_;  // W_ref / W_D65 per component (reflectance), else (1, 1, 1)
