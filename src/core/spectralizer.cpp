@@ -27,10 +27,9 @@ std::vector<double> wavelengths_of(const WavelengthGrid& grid) {
 // interpolated on its 1 nm table and scaled so that basis * 1 has Y = 1.
 std::vector<double> basis_of(const SpectralizerSettings& s, const SampleWeights& weights) {
   std::vector<double> basis(s.grid.size(), 1.0);
-  std::string name = s.emission_basis;
-  for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string name = parse_emission_basis(s.emission_basis);  // throws for unknown names
   if (name == "flat") return basis;
-  const Illuminant il = Illuminant::get(s.emission_basis);  // throws for unknown names
+  const Illuminant il = Illuminant::get(name);
   if (s.mode != Mode::emission) return basis;
   double y = 0;
   for (std::size_t i = 0; i < basis.size(); ++i) {
@@ -87,6 +86,18 @@ Model parse_model(std::string_view text) {
   if (text == "paper") return Model::paper;
   if (text == "smooth") return Model::smooth;
   throw Error("unknown model '" + std::string(text) + "' (valid: paper, smooth)");
+}
+
+std::string parse_emission_basis(std::string_view text) {
+  std::string lower(text);
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (lower == "flat") return "flat";
+  try {
+    return Illuminant::get(text).name;
+  } catch (const Error& e) {
+    throw Error("unknown emission basis '" + std::string(text) +
+                "' (valid: flat or an illuminant name, e.g. D65, A, FL2)");
+  }
 }
 
 std::string_view to_string(Status status) {

@@ -42,6 +42,10 @@ Model parse_model(std::string_view text);
 /// The smooth model's default curvature length tau (chosen by measurement; see README).
 inline constexpr double kDefaultCurvatureNm = 50;
 
+/// Canonical emission basis: "flat" (any case) or an illuminant's canonical name; throws Error
+/// naming the valid values. Cost: O(table) for an illuminant.
+std::string parse_emission_basis(std::string_view text);
+
 enum class Status {
   ok,            // exact spectrum of the input colour
   black,         // zero input: zero spectrum

@@ -15,9 +15,10 @@ namespace {
 
 using Json = nlohmann::json;
 
-const char* const kKeys[] = {"source",   "to",         "colorspace", "mode",    "wavelengths",
-                             "observer", "illuminant", "filter",     "format",  "compression",
-                             "tile",     "method",     "cache",      "threads", "config"};
+const char* const kKeys[] = {"source",   "to",          "colorspace", "mode",   "wavelengths",
+                             "observer", "illuminant",  "filter",     "model",  "emission_basis",
+                             "format",   "compression", "tile",       "method", "cache",
+                             "threads",  "config"};
 
 int as_int(const std::string& key, const std::string& value, int lo, int hi) {
   int v = 0;
@@ -108,7 +109,8 @@ Recipe parse_recipe(const std::string& text, const std::string& path,
       throw Error(std::string("key 'illuminant': ") + e.what());
     }
     if (r.to_rgb) {
-      for (const char* spectral_only : {"mode", "wavelengths", "filter", "method", "cache", "tile"})
+      for (const char* spectral_only :
+           {"mode", "wavelengths", "filter", "model", "emission_basis", "method", "cache", "tile"})
         if (v.count(spectral_only))
           throw Error("key '" + std::string(spectral_only) + "' does not apply to \"to\": \"rgb\"");
       ToRgbSettings& s = r.rgb;
@@ -140,6 +142,16 @@ Recipe parse_recipe(const std::string& text, const std::string& path,
         } catch (const Error& e) {
           throw Error(std::string("key 'filter': ") + e.what());
         }
+      }
+      try {
+        s.spectral.model = parse_model(get("model", "paper"));
+      } catch (const Error& e) {
+        throw Error(std::string("key 'model': ") + e.what());
+      }
+      try {
+        s.spectral.emission_basis = parse_emission_basis(get("emission_basis", "flat"));
+      } catch (const Error& e) {
+        throw Error(std::string("key 'emission_basis': ") + e.what());
       }
       s.half = format == "half";
       s.compression = get("compression", "zip");

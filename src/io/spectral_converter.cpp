@@ -192,6 +192,8 @@ SpectralConverter::SpectralConverter(const ImageJobSettings& job, const OIIO::Im
   rep.observer = spectralizer.observer().name;
   rep.illuminant = spectralizer.illuminant() ? spectralizer.illuminant()->name : "";
   rep.filter = settings.filter.to_string();
+  rep.model = std::string(to_string(settings.model));
+  rep.emission_basis = settings.mode == Mode::emission ? settings.emission_basis : "";
   rep.method = job.method == SpectralTable::Method::table ? "table" : "exact";
   rep.sample_format = job.half ? "half" : "float";
   rep.compression = job.compression;
@@ -245,6 +247,8 @@ SpectralConverter::SpectralConverter(const ImageJobSettings& job, const OIIO::Im
   ospec.attribute("spectralize:observer", rep.observer);
   if (!rep.illuminant.empty()) ospec.attribute("spectralize:illuminant", rep.illuminant);
   ospec.attribute("spectralize:filter", rep.filter);
+  ospec.attribute("spectralize:model", rep.model);
+  if (!rep.emission_basis.empty()) ospec.attribute("spectralize:emissionBasis", rep.emission_basis);
   ospec.attribute("spectralize:method", rep.method);
   ospec.attribute("spectralize:colorspace", rep.colorspace);
   ospec.attribute("spectralize:previewColorSpace", std::string(kDefaultColourSpace));

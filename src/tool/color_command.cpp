@@ -37,6 +37,8 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
   j["observer"] = sp.observer().name;
   if (s.mode == Mode::reflectance) j["illuminant"] = sp.illuminant()->name;
   j["filter"] = s.filter.to_string();
+  j["model"] = std::string(to_string(s.model));
+  if (s.mode == Mode::emission) j["emission_basis"] = s.emission_basis;
   j["status"] = std::string(to_string(r.status));
   if (!r.message.empty()) j["message"] = r.message;
   j["input_xyz"] = xyz_json(r.input);

@@ -15,6 +15,9 @@ SpectralizerSettings spectral_settings(const Options& opt) {
   s.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
   if (!opt.filter.empty())
     s.filter = flag_value("--filter", [&] { return EdgeFilter::parse(opt.filter); });
+  s.model = flag_value("--model", [&] { return parse_model(opt.model); });
+  s.emission_basis =
+      flag_value("--emission-basis", [&] { return parse_emission_basis(opt.emission_basis); });
   return s;
 }
 

@@ -22,7 +22,8 @@ auto flag_value(const char* flag, Fn&& fn) {
   }
 }
 
-/// The grid, observer, illuminant and filter of the options (mode left to the caller).
+/// The grid, observer, illuminant, filter, model and emission basis of the options (mode left
+/// to the caller).
 /// Cost: O(1).
 SpectralizerSettings spectral_settings(const Options& options);
 

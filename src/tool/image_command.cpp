@@ -66,6 +66,8 @@ Json report_json(const ImageReport& r) {
   j["observer"] = r.observer;
   if (!r.illuminant.empty()) j["illuminant"] = r.illuminant;
   j["filter"] = r.filter;
+  j["model"] = r.model;
+  if (!r.emission_basis.empty()) j["emission_basis"] = r.emission_basis;
   j["method"] = r.method;
   j["format"] = r.sample_format;
   j["compression"] = r.compression;

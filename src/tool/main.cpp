@@ -120,6 +120,16 @@ int main(int argc, const char** argv) {
           "Edge-peak filter: drop the K partial solutions with the largest density; a fraction "
           "(0.7), a percentage (70%), a count (1000) or none (default 0.7)")
       .action(store(opt.filter));
+  ap.arg("--model NAME")
+      .help(
+          "How the spectrum is chosen among the exact ones: paper (average of the admissible "
+          "partial solutions, default) or smooth (least slope and curvature, within the bounds)")
+      .action(store(opt.model));
+  ap.arg("--emission-basis NAME")
+      .help(
+          "Emission only: flat (default) or an illuminant (D65, A, ...): spectrum = E x s with "
+          "s >= 0, white balanced to E, so white light becomes E itself")
+      .action(store(opt.emission_basis));
 
   if (ap.parse_args(argc, argv) < 0) {
     std::string err = ap.geterror();

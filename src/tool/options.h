@@ -21,6 +21,8 @@ struct Options {
   std::string observer = "cie1931";       // --observer
   std::string illuminant = "D65";         // --illuminant
   std::string filter;                     // --filter K (empty: the default)
+  std::string model = "paper";            // --model paper|smooth
+  std::string emission_basis = "flat";    // --emission-basis flat|<illuminant>
   std::string format;                     // --format: csv|json (--color), half|float (images)
   std::string compression = "zip";        // --compression
   std::string tile;                       // --tile N (empty: scanlines)

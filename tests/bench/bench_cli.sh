@@ -40,10 +40,12 @@ echo "input: $input ($(oiiotool --info "$input" | head -1 | sed 's/.*: *//'))"
 t_oiio=$(median oiiotool "$input" --ch "$channels" --mulc "$factors" -d half --compression zip -o "$work/oiio.exr")
 t_copy=$(median oiiotool "$input" --ch "$channels" -d half --compression zip -o "$work/copy.exr")
 t_spec=$(median "$bin" "$input" -o "$work/spec.exr" -q)
+t_smooth=$(median "$bin" "$input" -o "$work/smooth.exr" -q --model smooth)
 printf 'oiiotool read + write 84 channels (half, zip):   %.3f s, %s bytes (median of %d)\n' "$t_oiio" "$(stat -c %s "$work/oiio.exr")" "$runs"
 printf '  (same with plain copies of R,G,B:              %.3f s, %s bytes)\n' "$t_copy" "$(stat -c %s "$work/copy.exr")"
 printf 'spectralize, RGB + 81 bands (half, zip):         %.3f s, %s bytes (median of %d)\n' "$t_spec" "$(stat -c %s "$work/spec.exr")" "$runs"
 printf 'ratio spectralize / oiiotool:                     %.2f (target <= 1.3)\n' "$(echo "$t_spec / $t_oiio" | bc -l)"
+printf 'spectralize --model smooth:                       %.3f s (ratio %.2f)\n' "$t_smooth" "$(echo "$t_smooth / $t_oiio" | bc -l)"
 
 # Spectral synthesis alone with a warm cache: convert seconds from the report, one thread.
 "$bin" "$input" -o "$work/warm.exr" -q --threads 1 --cache "$work/cache" --report "$work/cold.json"

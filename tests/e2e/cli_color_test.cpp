@@ -70,8 +70,9 @@ double mean_in(const std::vector<double>& nm, const std::vector<double>& v, doub
 TEST(CliColor, HelpGoesToStdoutAndExitsZero) {
   auto r = run("--help");
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* flag : {"--color", "--colorspace", "--mode", "--wavelengths", "--observer",
-                           "--illuminant", "--filter", "--format", "--config"})
+  for (const char* flag :
+       {"--color", "--colorspace", "--mode", "--wavelengths", "--observer", "--illuminant",
+        "--filter", "--model", "--emission-basis", "--format", "--config"})
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag << " missing from --help";
 }
 
@@ -245,7 +246,63 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"--color 1,1,1 --filter x", "--filter"},
         BadArgs{"--color 1,1,1 --format xml", "--format 'xml'"},
         BadArgs{"--color 1,1,1 --config /nonexistent/config.ocio", "/nonexistent/config.ocio"},
+        BadArgs{"--color 1,1,1 --model wavy", "--model: unknown model 'wavy'"},
+        BadArgs{"--color 1,1,1 --emission-basis D6x", "--emission-basis: unknown emission basis"},
         BadArgs{"--color 1,1,1 --bogus", "bogus"}, BadArgs{"", "nothing to do"}));
+
+// --model smooth through the binary: the same promises (exact, non-negative, <= 1), the model
+// in the JSON, and smoother than the paper's spectrum of the same colour (sum of squared
+// first differences, computed here).
+TEST(CliColor, SmoothModelIsExactBoundedAndSmoother) {
+  auto slope = [](const std::vector<double>& v) {
+    double s = 0;
+    for (std::size_t i = 0; i + 1 < v.size(); ++i) s += (v[i + 1] - v[i]) * (v[i + 1] - v[i]);
+    return s;
+  };
+  for (const char* mode : {"emission", "reflectance"}) {
+    const std::string args = std::string("--color 0.21,0.72,0.15 --format json --mode ") + mode;
+    auto smooth = run(args + " --model smooth"), paper = run(args);
+    ASSERT_EQ(smooth.exit_code, 0) << smooth.err;
+    ASSERT_EQ(paper.exit_code, 0) << paper.err;
+    Json j = Json::parse(smooth.out), p = Json::parse(paper.out);
+    EXPECT_EQ(j["model"], "smooth");
+    EXPECT_EQ(p["model"], "paper");
+    std::vector<double> nm = j["wavelengths_nm"], v = j["values"];
+    const bool refl = std::string(mode) == "reflectance";
+    for (double x : v) {
+      EXPECT_GE(x, 0);
+      if (refl) EXPECT_LE(x, 1.0);
+    }
+    auto got = refl
+                   ? e2e::integrate(nm, v, "cie1931_2deg_cmf_1nm.csv", "cie_illuminant_d65_1nm.csv")
+                   : e2e::integrate(nm, v, "cie1931_2deg_cmf_1nm.csv");
+    std::vector<double> t = j["target_xyz"];
+    EXPECT_LE(e2e::rel_err(got, t[0], t[1], t[2]), 1e-9) << mode;
+    EXPECT_LT(slope(v), 0.5 * slope(p["values"].get<std::vector<double>>())) << mode;
+  }
+}
+
+// --emission-basis D65: white light becomes the CIE D65 table (sampled at 5 nm, scaled), for
+// both models; the reported basis is in the JSON.
+TEST(CliColor, WhiteLightWithTheD65BasisIsTheD65Table) {
+  const e2e::Table t = e2e::read_table("cie_illuminant_d65_1nm.csv", {"value"});
+  auto table_at = [&](double nm) {  // the 1 nm table at a whole wavelength
+    for (std::size_t k = 0; k < t.nm.size(); ++k)
+      if (t.nm[k] == nm) return t.cols[0][k];
+    return -1.0;
+  };
+  for (const char* model : {"paper", "smooth"}) {
+    auto r = run(std::string("--color 2,2,2 --format json --emission-basis D65 --model ") + model);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    Json j = Json::parse(r.out);
+    EXPECT_EQ(j["emission_basis"], "D65");
+    std::vector<double> nm = j["wavelengths_nm"], v = j["values"];
+    ASSERT_EQ(nm[36], 560);
+    const double scale = v[36] / table_at(560);
+    for (std::size_t i = 0; i < nm.size(); ++i)
+      EXPECT_NEAR(v[i], scale * table_at(nm[i]), 1e-9 * v[36]) << model << " " << nm[i];
+  }
+}
 
 TEST(CliColor, ConfigComesFromOcioEnvironmentWhenSet) {
   auto r = run("--color 0.5,0.5,0.5 --colorspace srgb_tx",

@@ -130,6 +130,55 @@ TEST(CliImage, HdriIsExactInFloatWithTheSpectralLayout) {
   EXPECT_EQ(s.files(), (std::vector<std::string>{"out.exr", "r.json"}));  // no temporary left
 }
 
+// Both models through the image path (table, cache nodes, fallbacks): the smooth model's HDRI
+// and ColorChecker are exact against the input to 1e-5 (float output), non-negative and <= 1,
+// and the files say which model made them.
+TEST(CliImage, SmoothModelImagesAreExactAndLabelled) {
+  Scratch s;
+  const std::string hdri = kImages + "hdri_sunset_256x128.exr";
+  auto r = run(hdri + " -o " + (s / "h.exr") + " --format float --model smooth --report " +
+               (s / "h.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  e2e::Exr e = e2e::read_exr(s / "h.exr");
+  EXPECT_EQ(e.attributes["spectralize:model"], "smooth");
+  e2e::Exr src = e2e::read_exr(hdri);
+  auto xyz = integrate_pixels(e, "S0.");
+  auto bands = e2e::spectral_channels(e, "S0.");
+  double worst = 0;
+  for (int y = 0; y < e.height; ++y)
+    for (int x = 0; x < e.width; ++x) {
+      const float rgb[3] = {src.at(x, y, 0), src.at(x, y, 1), src.at(x, y, 2)};
+      if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) continue;
+      worst = std::max(worst, rel(xyz[static_cast<std::size_t>(y) * e.width + x],
+                                  mul(kRec709, rgb[0], rgb[1], rgb[2])));
+      for (const auto& b : bands) ASSERT_GE(e.at(x, y, b.first), 0.0f);
+    }
+  EXPECT_LE(worst, 1e-5);
+  Json rep = read_json(s / "h.json");
+  EXPECT_EQ(rep["model"], "smooth");
+  EXPECT_EQ(rep["emission_basis"], "flat");
+  EXPECT_LE(rep["max_relative_xyz_error"].get<double>(), 1e-5);
+
+  // The ColorChecker as reflectance, and with a D65 emission basis as light (recipe keys too).
+  const std::string cc = kImages + "colorchecker_srgb8.png";
+  r = run(cc + " -o " + (s / "c.exr") + " --format float --model smooth --report " +
+          (s / "c.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  e2e::Exr c = e2e::read_exr(s / "c.exr");
+  for (const auto& b : e2e::spectral_channels(c, "T."))
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        ASSERT_GE(c.at(x, y, b.first), 0.0f);
+        ASSERT_LE(c.at(x, y, b.first), 1.0f);
+      }
+  EXPECT_LE(read_json(s / "c.json")["max_relative_xyz_error"].get<double>(), 1e-5);
+  r = run(cc + " -o " + (s / "l.exr") +
+          " --format float --mode emission --emission-basis D65 --report " + (s / "l.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(e2e::read_exr(s / "l.exr").attributes["spectralize:emissionBasis"], "D65");
+  EXPECT_LE(read_json(s / "l.json")["max_relative_xyz_error"].get<double>(), 1e-5);
+}
+
 // An 8-bit sRGB ColorChecker: reflectance (auto), 0 <= rho <= 1, exact to the white-balanced
 // colour under D65, alpha passed through.
 TEST(CliImage, ColorCheckerIsAnExactBoundedReflectanceWithAlphaKept) {

@@ -92,11 +92,12 @@ TEST(Plugin, OiiotoolGivesTheSamePixelsAsTheCli) {
   fs::copy_file(kImages + "colorchecker_srgb8_rgba.png", s / "cc.png");
   const std::string recipe = s.write(
       "cc.spectral",
-      R"({"source": "cc.png", "colorspace": "sRGB - Texture", "mode": "reflectance", "wavelengths": "380:780:10"})");
+      R"({"source": "cc.png", "colorspace": "sRGB - Texture", "mode": "reflectance", "wavelengths": "380:780:10", "model": "smooth"})");
   auto r = sh("oiiotool " + recipe + " -o " + (s / "oiio.exr"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run((s / "cc.png") + " -o " + (s / "cli.exr") +
-          " --colorspace 'sRGB - Texture' --mode reflectance --wavelengths 380:780:10");
+          " --colorspace 'sRGB - Texture' --mode reflectance --wavelengths 380:780:10 --model "
+          "smooth");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   e2e::Exr a = e2e::read_exr(s / "oiio.exr"), b = e2e::read_exr(s / "cli.exr");
   EXPECT_EQ(a.channels, b.channels);  // same names, previews, alpha
@@ -104,14 +105,15 @@ TEST(Plugin, OiiotoolGivesTheSamePixelsAsTheCli) {
   EXPECT_EQ(a.pixels, b.pixels);  // identical pixels
   EXPECT_EQ(a.attributes["spectralLayoutVersion"], "1.0");
   EXPECT_EQ(a.attributes["spectralize:wavelengths"], "380:780:10");
+  EXPECT_EQ(a.attributes["spectralize:model"], "smooth");
   // Emission, float, with options given as "spectral:" attributes of the open config.
   s.write("sun.spectral",
           R"({"source": ")" + kImages + R"(hdri_sunset_256x128.exr", "format": "float"})");
-  r = sh("oiiotool -iconfig spectral:wavelengths 400:700:10 " + (s / "sun.spectral") + " -o " +
-         (s / "sun_oiio.exr"));
+  r = sh("oiiotool -iconfig spectral:wavelengths 400:700:10 -iconfig spectral:emission_basis D65 " +
+         (s / "sun.spectral") + " -o " + (s / "sun_oiio.exr"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_EQ(run(kImages + "hdri_sunset_256x128.exr -o " + (s / "sun_cli.exr") +
-                " --format float --wavelengths 400:700:10")
+                " --format float --wavelengths 400:700:10 --emission-basis D65")
                 .exit_code,
             0);
   e2e::Exr c = e2e::read_exr(s / "sun_oiio.exr"), d = e2e::read_exr(s / "sun_cli.exr");
@@ -309,6 +311,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadRecipe{"BadGrid", R"({"source": "grey.png", "wavelengths": "780:380:5"})",
                   "key 'wavelengths'"},
         BadRecipe{"BadMode", R"({"source": "grey.png", "mode": "glow"})", "key 'mode'"},
+        BadRecipe{"BadModel", R"({"source": "grey.png", "model": "wavy"})", "key 'model'"},
+        BadRecipe{"BadBasis", R"({"source": "grey.png", "emission_basis": "D6x"})",
+                  "key 'emission_basis'"},
         BadRecipe{"BadIlluminant", R"({"source": "grey.png", "illuminant": "F99"})",
                   "key 'illuminant'"},
         BadRecipe{"BadTo", R"({"source": "grey.png", "to": "xyz"})", "key 'to'"},
