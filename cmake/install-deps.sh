@@ -11,6 +11,7 @@ packages=(
   libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libeigen3-dev
   clang-format
+  fonts-dejavu-core
 )
 
 missing=()

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "io/spectrum_plot.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 
@@ -63,6 +64,8 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
 }  // namespace
 
 int run_color(const Options& opt) {
+  // -o naming an image or an .svg: draw the spectra instead of printing them.
+  if (!opt.output.empty() && is_plot_path(opt.output)) return run_plot_color(opt);
   // Validate every flag before any work, so a mistake is reported as such (exit 2).
   const std::string format = opt.format.empty() ? "csv" : opt.format;
   if (format != "csv" && format != "json")

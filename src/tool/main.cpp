@@ -34,7 +34,9 @@ int main(int argc, const char** argv) {
            "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
            "stays <= 1.")
       .usage(
-          "spectralize INPUT -o OUTPUT.exr [options]\n       spectralize --color R,G,B [options]")
+          "spectralize INPUT -o OUTPUT.exr [options]\n       spectralize --color R,G,B [options]\n"
+          "       spectralize --color R,G,B [--color ...] -o PLOT.png|PLOT.svg [options]\n"
+          "       spectralize --plot-pixel X,Y IN.exr -o PLOT.png|PLOT.svg")
       .add_help(false)  // ours prints to stdout and exits 0 even with exit_on_error(false)
       .exit_on_error(false);
   bool help = false;
@@ -48,7 +50,9 @@ int main(int argc, const char** argv) {
 
   ap.separator("Images (RGB in, spectral OpenEXR out):");
   ap.arg("-o OUTPUT")
-      .help("The spectral OpenEXR to write (through a temporary file, renamed when complete)")
+      .help(
+          "The spectral OpenEXR to write (through a temporary file, renamed when complete); "
+          "with --color or --plot-pixel: the plot (.png, .svg, ...)")
       .action(store(opt.output));
   ap.arg("--format FORMAT")
       .help("Samples: half (default) or float; with --color: csv (default) or json")
@@ -89,6 +93,15 @@ int main(int argc, const char** argv) {
   ap.arg("--color R,G,B")
       .help("Spectralize one colour (repeatable); prints the spectrum to stdout")
       .action([&](OIIO::cspan<const char*> args) { opt.colors.emplace_back(args[1]); });
+
+  ap.separator("Plots (-o PLOT.png, .svg or any image format; 1000x600):");
+  ap.arg("--plot-pixel X,Y")
+      .help(
+          "Plot the spectrum of pixel X,Y (0-based, top-left) of a spectral EXR given as input "
+          "(repeatable); with --color R,G,B, -o PLOT.png|.svg draws the colours' spectra instead "
+          "of printing them")
+      .action([&](OIIO::cspan<const char*> args) { opt.plot_pixels.emplace_back(args[1]); });
+
   ap.separator("Colour:");
   ap.arg("--colorspace NAME")
       .help(
@@ -143,6 +156,7 @@ int main(int argc, const char** argv) {
     return kExitOk;
   }
   try {
+    if (!opt.plot_pixels.empty()) return run_plot_pixel(opt);
     if (int(!opt.colors.empty()) + int(!opt.inputs.empty()) + int(!opt.to_rgb.empty()) > 1)
       throw UsageError{"give one of --color, --to-rgb or an input image"};
     if (!opt.to_rgb.empty()) return run_to_rgb(opt);

@@ -14,6 +14,7 @@ struct Options {
   std::vector<std::string> colors;        // --color R,G,B (repeatable)
   std::vector<std::string> inputs;        // positional: the image to spectralize
   std::string to_rgb;                     // --to-rgb IN.exr: a spectral EXR to RGB
+  std::vector<std::string> plot_pixels;   // --plot-pixel X,Y (repeatable): plot IN.exr's pixel
   std::string output;                     // -o OUTPUT.exr
   std::string colorspace;                 // --colorspace NAME (empty: default / detected)
   std::string mode;                       // --mode (empty: emission for --color, auto for images)
@@ -51,5 +52,15 @@ int run_to_rgb(const Options& options);
 /// --report. Returns the exit status; throws UsageError for malformed values and Error when the
 /// job fails. Cost: O(pixels x bands).
 int run_image(const Options& options);
+
+/// Runs `spectralize --color R,G,B ... -o PLOT.png|.svg`: the spectra drawn as a plot (see
+/// io/spectrum_plot.h). Returns the exit status; throws UsageError / Error. Cost: one exact
+/// solve per colour plus the drawing, ~0.2 s.
+int run_plot_color(const Options& options);
+
+/// Runs `spectralize --plot-pixel X,Y IN.exr -o PLOT.png|.svg`: the spectrum of a pixel of any
+/// spectral EXR. Returns the exit status; throws UsageError / Error. Cost: reading one row per
+/// pixel plus the drawing.
+int run_plot_pixel(const Options& options);
 
 }  // namespace spectralize::tool

@@ -1,0 +1,64 @@
+#pragma once
+// Spectrum plots: a description (curves, title lines, legend swatches) drawn either as a raster
+// image with OpenImageIO's ImageBufAlgo render functions or as SVG text. Both come from one
+// layout, so they look the same. No OIIO types in this header.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace spectralize {
+
+/// A colour on the display: sRGB-encoded components, clipped to [0, 1] when drawn.
+struct PlotColour {
+  float r = 0, g = 0, b = 0;
+};
+
+/// One spectrum on the plot.
+struct PlotCurve {
+  std::string label;                 // legend text, e.g. the input colour "0.21,0.72,0.15"
+  std::vector<double> wavelengths;   // nm, increasing
+  std::vector<double> values;        // one per wavelength
+  PlotColour colour;                 // of the line and the sample points
+  std::vector<PlotColour> swatches;  // side by side in the legend, one per SpectrumPlot label
+};
+
+/// Everything a plot shows. The image is kPlotWidth x kPlotHeight whatever the content.
+struct SpectrumPlot {
+  std::vector<std::string> title;  // up to 3 lines; the first is drawn larger
+  std::string x_label = "wavelength (nm)";
+  std::string y_label = "value";
+  double y_top_at_least = 0;               // the value axis reaches at least this (1: reflectance)
+  std::vector<PlotCurve> curves;           // at most kMaxPlotCurves
+  std::vector<std::string> swatch_labels;  // column headings of the swatches, e.g. "input"
+  std::vector<std::string> notes;          // small lines under the legend
+};
+
+/// Size of every plot, raster (pixels) and SVG (user units).
+inline constexpr int kPlotWidth = 1000;
+inline constexpr int kPlotHeight = 600;
+/// The legend has room for this many curves.
+inline constexpr std::size_t kMaxPlotCurves = 10;
+
+/// The distinct colour of curve i (the Tableau 10 palette; cycles after 10). Cost: O(1).
+PlotColour plot_palette(std::size_t i);
+
+/// True when `path` names a plot: ".svg", or an extension OpenImageIO can write (.png, .jpg,
+/// .tif, .exr, ...). Cost: a plugin lookup, ~us once loaded.
+bool is_plot_path(const std::string& path);
+
+/// Draws the plot with ImageBufAlgo (supersampled, then filtered down) and writes it in the
+/// format of `path`'s extension: 8-bit display sRGB, or linear half for OpenEXR / float for
+/// Radiance HDR. Needs a TrueType font (DejaVu Sans); throws Error naming the file and the
+/// reason. Writes a temporary file beside `path` and renames it. Cost: ~0.2 s, ~40 MB.
+void write_raster(const SpectrumPlot& plot, const std::string& path);
+
+/// Writes the plot as SVG text (one <polyline> per curve, one point per sample), through a
+/// temporary file renamed into place. Throws Error naming the file and the reason.
+/// Cost: O(samples), ~ms.
+void write_svg(const SpectrumPlot& plot, const std::string& path);
+
+/// write_svg for ".svg" paths, write_raster otherwise. Cost: theirs.
+void write_plot(const SpectrumPlot& plot, const std::string& path);
+
+}  // namespace spectralize

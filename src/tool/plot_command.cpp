@@ -1,0 +1,311 @@
+// Plots: `spectralize --color R,G,B ... -o PLOT.png|.svg` and `spectralize --plot-pixel X,Y
+// IN.exr -o PLOT.png|.svg`. The drawing is io/spectrum_plot; this file gathers the spectra, the
+// title and the swatches (the colour before and after the round trip, through OCIO).
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/spectralizer.h"
+#include "io/colour_space.h"
+#include "io/rgb_from_spectral.h"
+#include "io/spectrum_plot.h"
+#include "tool/flags.h"
+#include "tool/options.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize::tool {
+
+namespace {
+
+// Display colours of the swatches: CIE XYZ (D65) -> the config's sRGB display encoding by OCIO.
+// Colours brighter than display white (HDR lights) are scaled down first, by the factor that
+// brings the input's largest linear Rec.709 component to 1, the same for both swatches of a
+// curve so they stay comparable.
+class SwatchColours {
+ public:
+  explicit SwatchColours(const ColourSpaces& spaces)
+      : display_(spaces.from_xyz(
+            pick(spaces, {"sRGB - Texture", "sRGB", "srgb_tx", "sRGB Encoded Rec.709 (sRGB)"}))),
+        linear_(spaces.from_xyz(pick(
+            spaces, {std::string(kDefaultColourSpace), "lin_srgb", "Utility - Linear - sRGB"}))) {}
+
+  /// The factor (<= 1) that fits `xyz` into the display's range. Cost: O(1) + OCIO.
+  double exposure(const Xyz& xyz) const {
+    float rgb[3] = {static_cast<float>(xyz.X), static_cast<float>(xyz.Y),
+                    static_cast<float>(xyz.Z)};
+    linear_.apply(rgb, 1);
+    const double m = std::max({rgb[0], rgb[1], rgb[2]});
+    return std::isfinite(m) && m > 1 ? 1 / m : 1;
+  }
+  /// `xyz` times `k` as display sRGB, clipped to [0, 1]. Cost: O(1) + OCIO.
+  PlotColour operator()(const Xyz& xyz, double k) const {
+    float rgb[3] = {static_cast<float>(k * xyz.X), static_cast<float>(k * xyz.Y),
+                    static_cast<float>(k * xyz.Z)};
+    display_.apply(rgb, 1);
+    auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+    return {unit(rgb[0]), unit(rgb[1]), unit(rgb[2])};
+  }
+
+ private:
+  // The first of `names` the config knows (the shipped config has them all).
+  static std::string pick(const ColourSpaces& spaces, std::initializer_list<std::string> names) {
+    for (const auto& name : names) {
+      try {
+        return spaces.resolve(name);
+      } catch (const Error&) {
+      }
+    }
+    throw Error("the OCIO config '" + spaces.origin() + "' has no '" + *names.begin() +
+                "' colour space for the plot's swatches");
+  }
+  ColourTransform display_, linear_;
+};
+
+// -o must name a plot file (.svg or an image format OIIO writes).
+void check_plot_output(const Options& opt, const char* command) {
+  if (opt.output.empty())
+    throw UsageError{fmt::format("{} needs -o PLOT.png or -o PLOT.svg", command)};
+  if (!is_plot_path(opt.output))
+    throw UsageError{fmt::format(
+        "-o '{}': a plot is written as .svg or as an image OpenImageIO writes (.png, .jpg, .tif, "
+        ".exr, ...)",
+        opt.output)};
+  if (!opt.format.empty())
+    throw UsageError{
+        fmt::format("--format '{}': a plot's format follows the extension of -o ('{}')", opt.format,
+                    opt.output)};
+}
+
+// The settings line of a --color plot: colour space, mode, model and the spectral settings.
+std::string settings_line(const std::string& space, const Spectralizer& sp) {
+  const SpectralizerSettings& s = sp.settings();
+  std::string line = space + " | " + std::string(to_string(s.mode));
+  if (s.mode == Mode::reflectance) line += " under " + sp.illuminant()->name;
+  line += " | model " + std::string(to_string(s.model));
+  if (s.mode == Mode::emission && s.emission_basis != "flat")
+    line += " | basis " + s.emission_basis;
+  line += " | " + s.grid.to_string() + " nm | " + sp.observer().name;
+  if (s.model == Model::paper) line += " | filter " + s.filter.to_string();
+  return line;
+}
+
+// Parses "X,Y": two whole numbers >= 0.
+std::pair<int, int> parse_pixel(const std::string& text) {
+  const std::size_t comma = text.find(',');
+  auto whole = [&](std::string_view part, int& v) {
+    auto r = std::from_chars(part.data(), part.data() + part.size(), v);
+    return !part.empty() && r.ec == std::errc() && r.ptr == part.data() + part.size() && v >= 0;
+  };
+  int x = 0, y = 0;
+  if (comma == std::string::npos || !whole(std::string_view(text).substr(0, comma), x) ||
+      !whole(std::string_view(text).substr(comma + 1), y))
+    throw UsageError{fmt::format(
+        "--plot-pixel '{}': expected X,Y, two whole numbers >= 0 (0,0 is the top-left pixel)",
+        text)};
+  return {x, y};
+}
+
+void report(const Options& opt, const SpectrumPlot& plot) {
+  if (opt.verbosity > 0)
+    fmt::print(stderr, "spectralize: '{}': plot of {} spectr{}, {} samples, {}x{}\n", opt.output,
+               plot.curves.size(), plot.curves.size() == 1 ? "um" : "a",
+               plot.curves.empty() ? 0 : plot.curves[0].values.size(), kPlotWidth, kPlotHeight);
+}
+
+}  // namespace
+
+int run_plot_color(const Options& opt) {
+  // Validate every flag before any work (exit 2 on a mistake).
+  check_plot_output(opt, "--color");
+  if (opt.colors.size() > kMaxPlotCurves)
+    throw UsageError{fmt::format("--color: a plot shows at most {} colours, got {}", kMaxPlotCurves,
+                                 opt.colors.size())};
+  SpectralizerSettings settings = spectral_settings(opt);
+  settings.mode =
+      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
+  std::vector<Rgb> colours;
+  for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
+  const ColourSpaces spaces = load_config(opt);
+  const std::string space =
+      opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
+  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  const SwatchColours swatch(spaces);
+
+  Spectralizer spectralizer(settings);
+  // The spectrum's XYZ is in the target's terms; a reflectance's target is white balanced to
+  // the reference illuminant, so undo that to compare with the input (emission: factor 1).
+  const Xyz ref = spectralizer.reference_white();
+  const Xyz unbalance{kWhiteD65.X / ref.X, kWhiteD65.Y / ref.Y, kWhiteD65.Z / ref.Z};
+
+  SpectrumPlot plot;
+  plot.y_label =
+      settings.mode == Mode::emission ? "relative spectral radiance" : "reflectance (rho)";
+  plot.y_top_at_least = settings.mode == Mode::reflectance ? 1 : 0;
+  plot.swatch_labels = {"input", "round trip"};
+  int status = kExitOk;
+  bool scaled = false;
+  std::vector<std::string> results;  // one-colour details for the title
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    const Rgb& c = colours[i];
+    const SpectrumResult r = spectralizer.spectralize(to_xyz(c.r, c.g, c.b));
+    if (r.status == Status::out_of_gamut)
+      fmt::print(stderr,
+                 "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
+                 c.text, to_xyz.source(), r.message, r.gamut_distance);
+    if (r.status == Status::invalid) {
+      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
+                 r.message);
+      status = kExitFailure;
+    }
+    PlotCurve curve;
+    curve.label = c.text + (r.status == Status::ok || r.status == Status::black
+                                ? ""
+                                : " (" + std::string(to_string(r.status)) + ")");
+    for (std::size_t k = 0; k < settings.grid.size(); ++k)
+      curve.wavelengths.push_back(settings.grid[k]);
+    curve.values = r.values;
+    curve.colour = plot_palette(i);
+    const double k = swatch.exposure(r.input);
+    scaled = scaled || k < 1;
+    curve.swatches = {swatch(r.input, k), swatch(hadamard(r.xyz, unbalance), k)};
+    plot.curves.push_back(std::move(curve));
+    // L and K (admissible and dropped partial solutions) exist for the paper's model only.
+    results.push_back(fmt::format(
+        "{} | relative XYZ error {:.2g}{}{}", to_string(r.status), r.relative_error,
+        settings.model == Model::paper ? fmt::format(" | L = {}, K = {}", r.admissible, r.dropped)
+                                       : "",
+        r.bounded ? " | bounded" : ""));
+  }
+  plot.title = {colours.size() == 1 ? fmt::format("Spectrum of RGB ({})", colours[0].text)
+                                    : fmt::format("Spectra of {} colours", colours.size()),
+                settings_line(to_xyz.source(), spectralizer)};
+  if (colours.size() == 1) plot.title.push_back(results[0]);
+  plot.notes.push_back("swatches: display sRGB via OCIO");
+  if (scaled) plot.notes.push_back("bright lights scaled to fit");
+  write_plot(plot, opt.output);
+  report(opt, plot);
+  return status;
+}
+
+int run_plot_pixel(const Options& opt) {
+  // Validate the command line before reading anything (exit 2 on a mistake).
+  if (!opt.colors.empty() || !opt.to_rgb.empty())
+    throw UsageError{"--plot-pixel plots a pixel of a spectral EXR: give no --color or --to-rgb"};
+  if (opt.inputs.size() != 1)
+    throw UsageError{
+        opt.inputs.empty()
+            ? "--plot-pixel needs the spectral EXR: spectralize --plot-pixel X,Y "
+              "IN.exr -o PLOT.png"
+            : fmt::format("--plot-pixel: one input file at a time, got {}", opt.inputs.size())};
+  check_plot_output(opt, "--plot-pixel");
+  if (opt.plot_pixels.size() > kMaxPlotCurves)
+    throw UsageError{fmt::format("--plot-pixel: a plot shows at most {} pixels, got {}",
+                                 kMaxPlotCurves, opt.plot_pixels.size())};
+  std::vector<std::pair<int, int>> pixels;
+  for (const auto& text : opt.plot_pixels) pixels.push_back(parse_pixel(text));
+  const std::string observer =
+      flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
+  const std::string illuminant =
+      flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
+  const ColourSpaces spaces = load_config(opt);
+  const SwatchColours swatch(spaces);
+
+  // Open the file; never write over it.
+  const std::string& file = opt.inputs[0];
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw Error("'" + file + "': no such file");
+  if (fs::exists(opt.output, ec) && fs::equivalent(opt.output, file, ec))
+    throw Error("'" + opt.output + "': is the input file; refusing to overwrite it");
+  auto in = OIIO::ImageInput::open(file);
+  if (!in) {
+    const std::string why = OIIO::geterror();
+    throw Error("'" + file + "': cannot read: " + (why.empty() ? "unknown format" : why));
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  const SpectralLayoutInfo layout = analyse_spectral_layout(spec, file);
+  const std::string linear = spaces.resolve(kDefaultColourSpace);
+  const RgbFromSpectral to_rgb(layout, RgbSettings{linear, observer, illuminant}, spaces);
+  const ColourTransform rgb_to_xyz = spaces.to_xyz(linear);
+  const int r_ch = spec.channelindex("R"), g_ch = spec.channelindex("G"),
+            b_ch = spec.channelindex("B");
+  const bool has_rgb = r_ch >= 0 && g_ch >= 0 && b_ch >= 0;
+
+  SpectrumPlot plot;
+  const std::string units = spec.get_string_attribute("emissiveUnits");
+  plot.y_label =
+      layout.emissive ? (units.empty() ? "S0" : "S0 (" + units + ")") : "T (reflectance)";
+  plot.y_top_at_least = layout.emissive ? 0 : 1;
+  plot.swatch_labels = {"spectrum -> RGB"};
+  if (has_rgb) plot.swatch_labels.insert(plot.swatch_labels.begin(), "file's RGB");
+  bool scaled = false;
+  std::vector<float> row(static_cast<std::size_t>(spec.width) * spec.nchannels);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const auto [x, y] = pixels[i];
+    if (x >= spec.width || y >= spec.height)
+      throw UsageError{fmt::format(
+          "--plot-pixel '{}': outside '{}', which is {}x{} (X 0..{}, Y "
+          "0..{})",
+          opt.plot_pixels[i], file, spec.width, spec.height, spec.width - 1, spec.height - 1)};
+    // One row is read (OIIO reads tiled files too), not the whole image.
+    if (!in->read_scanlines(0, 0, spec.y + y, spec.y + y + 1, 0, 0, spec.nchannels, OIIO::TypeFloat,
+                            row.data()))
+      throw Error(fmt::format("'{}': cannot read row {}: {}", file, y, in->geterror()));
+    const float* px = row.data() + static_cast<std::size_t>(x) * spec.nchannels;
+    PlotCurve curve;
+    curve.label = fmt::format("pixel ({}, {})", x, y);
+    curve.wavelengths = layout.wavelengths;
+    std::size_t bad = 0;
+    for (int c : layout.band_channels) {
+      const float v = px[c];
+      bad += !std::isfinite(v);
+      curve.values.push_back(std::isfinite(v) ? v : 0.0);
+    }
+    if (bad > 0 && opt.verbosity > 0)
+      fmt::print(stderr,
+                 "spectralize WARNING: '{}': pixel ({}, {}) has {} NaN/infinite samples, "
+                 "drawn as 0\n",
+                 file, x, y, bad);
+    curve.colour = plot_palette(i);
+    // The swatches: the file's own RGB (linear Rec.709 by EXR convention) and the spectrum
+    // integrated as --to-rgb does.
+    float rgb[4] = {0, 0, 0, 0};
+    to_rgb.convert(px, spec.nchannels, 1, rgb);
+    const Xyz from_spectrum = rgb_to_xyz(rgb[0], rgb[1], rgb[2]);
+    const Xyz from_file = has_rgb ? rgb_to_xyz(px[r_ch], px[g_ch], px[b_ch]) : from_spectrum;
+    // One exposure for both (the brighter fits), so a preview on another scale than its
+    // spectrum shows as such.
+    const double k = std::min(swatch.exposure(from_file), swatch.exposure(from_spectrum));
+    scaled = scaled || k < 1;
+    if (has_rgb) curve.swatches.push_back(swatch(from_file, k));
+    curve.swatches.push_back(swatch(from_spectrum, k));
+    plot.curves.push_back(std::move(curve));
+  }
+  const std::string name = fs::path(file).filename().string();
+  plot.title.push_back(pixels.size() == 1 ? fmt::format("Pixel ({}, {}) of '{}'", pixels[0].first,
+                                                        pixels[0].second, name)
+                                          : fmt::format("{} pixels of '{}'", pixels.size(), name));
+  plot.title.push_back(
+      fmt::format("{}x{} | {} {} channels | {} bands {:g}-{:g} nm{}", spec.width, spec.height,
+                  layout.emissive ? "emissive" : "reflective", layout.emissive ? "S0" : "T",
+                  layout.wavelengths.size(), layout.wavelengths.front(), layout.wavelengths.back(),
+                  layout.polarised ? " | polarised (S0 shown, S1-S3 ignored)" : ""));
+  plot.title.push_back(fmt::format("swatches: {}{} -> display sRGB", observer,
+                                   layout.emissive ? "" : " under " + illuminant));
+  plot.notes.push_back("swatches: display sRGB via OCIO");
+  if (scaled) plot.notes.push_back("bright lights scaled to fit");
+  in->close();
+  write_plot(plot, opt.output);
+  report(opt, plot);
+  return kExitOk;
+}
+
+}  // namespace spectralize::tool
