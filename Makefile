@@ -3,7 +3,8 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test demo bench format format-check clean test-asan test-tsan fuzz
+.PHONY: all deps configure build test demo bench format format-check clean test-asan test-tsan fuzz \
+	figures validate docs-figures
 FUZZ_SECONDS ?= 60
 
 all: build
@@ -46,6 +47,21 @@ fuzz: deps
 
 demo: deps build
 	@bash cmake/demo.sh $(BUILD_DIR)
+
+# The paper's figures (fig1..fig6 PNGs, sphere dE2000 maps) into $(BUILD_DIR)/figures/.
+figures: deps build
+	@$(BUILD_DIR)/spectralize_figures figures $(BUILD_DIR)/figures
+
+# The ColorChecker / illuminant validation into $(BUILD_DIR)/validation/ (JSON and Markdown).
+validate: deps build
+	@$(BUILD_DIR)/spectralize_figures validate $(BUILD_DIR)/validation
+
+# Refreshes the README's copies in docs/figures/ (plots as made, spheres and maps at 256 px).
+docs-figures: figures
+	@mkdir -p docs/figures
+	@cp $(BUILD_DIR)/figures/fig1_light_spectrum.png $(BUILD_DIR)/figures/fig3_surface_spectrum.png docs/figures/
+	@for f in $(BUILD_DIR)/figures/fig[2456]_*.png; do \
+	  oiiotool $$f --resize 256x0 -o docs/figures/$$(basename $$f); done
 
 bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5

@@ -69,10 +69,9 @@ double delta_e_2000(const Lab& lab1, const Lab& lab2) {
     else
       h_mean = h_mean < 360 ? (h_mean + 360) / 2 : (h_mean - 360) / 2;
   }
-  const double t = 1 - 0.17 * std::cos((h_mean - 30) / kDegrees) +
-                   0.24 * std::cos(2 * h_mean / kDegrees) +
-                   0.32 * std::cos((3 * h_mean + 6) / kDegrees) -
-                   0.20 * std::cos((4 * h_mean - 63) / kDegrees);
+  const double t =
+      1 - 0.17 * std::cos((h_mean - 30) / kDegrees) + 0.24 * std::cos(2 * h_mean / kDegrees) +
+      0.32 * std::cos((3 * h_mean + 6) / kDegrees) - 0.20 * std::cos((4 * h_mean - 63) / kDegrees);
   const double d_theta = 30 * std::exp(-std::pow((h_mean - 275) / 25, 2));
   const double c_mean_7 = std::pow(c_mean, 7);
   const double rc = 2 * std::sqrt(c_mean_7 / (c_mean_7 + std::pow(25.0, 7)));

@@ -1,0 +1,149 @@
+#include "figures/figure_image.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize::figures {
+
+namespace {
+
+using OIIO::ImageBufAlgo::TextAlignX;
+
+// The first DejaVu Sans of the usual font folders, or "" (then the images go without labels).
+std::string find_font() {
+  for (const char* path :
+       {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+        "/usr/share/fonts/TTF/DejaVuSans.ttf"}) {
+    std::error_code ec;
+    if (fs::exists(path, ec)) return path;
+  }
+  return "";
+}
+
+void draw_text(OIIO::ImageBuf& buf, int x, int y, const std::string& text, int size,
+               const std::string& font, float grey, TextAlignX align = TextAlignX::Left) {
+  if (font.empty() || text.empty()) return;
+  const float colour[3] = {grey, grey, grey};
+  OIIO::ImageBufAlgo::render_text(buf, x, y, text, size, font, colour, align);
+}
+
+// Writes an 8-bit PNG through a temporary file beside `path` (same extension for OIIO), then
+// renames it, so a failed run never leaves a half-written figure.
+void write_png(OIIO::ImageBuf& buf, const std::string& path) {
+  const fs::path target(path);
+  const fs::path temp = target.parent_path() / fmt::format(".{}.tmp{}", target.stem().string(),
+                                                           target.extension().string());
+  if (!buf.write(temp.string(), OIIO::TypeDesc::UINT8)) {
+    std::error_code ec;
+    fs::remove(temp, ec);
+    throw Error("cannot write '" + path + "': " + buf.geterror());
+  }
+  std::error_code ec;
+  fs::rename(temp, target, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw Error("cannot write '" + path + "': " + ec.message());
+  }
+}
+
+// A dark-to-bright ramp (black, violet, red, orange, pale yellow) in display sRGB; t in [0, 1].
+std::array<float, 3> ramp(double t) {
+  static constexpr std::array<std::array<float, 3>, 5> stops{{{0.00f, 0.00f, 0.02f},
+                                                              {0.28f, 0.05f, 0.45f},
+                                                              {0.70f, 0.16f, 0.35f},
+                                                              {0.97f, 0.50f, 0.10f},
+                                                              {0.99f, 0.99f, 0.70f}}};
+  t = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
+  const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(t), stops.size() - 2);
+  const float f = static_cast<float>(t - static_cast<double>(i));
+  std::array<float, 3> c;
+  for (int k = 0; k < 3; ++k) c[k] = (1 - f) * stops[i][k] + f * stops[i + 1][k];
+  return c;
+}
+
+}  // namespace
+
+Mat3 rgb_to_xyz_matrix(const ColourSpaces& spaces, std::string_view space) {
+  const ColourTransform to_xyz = spaces.to_xyz(space);
+  Mat3 m{};
+  const Xyz columns[3] = {to_xyz(1, 0, 0), to_xyz(0, 1, 0), to_xyz(0, 0, 1)};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m[r][c] = columns[c][r];
+  // A linear space maps any colour by the matrix; a curve (sRGB - Texture) does not.
+  const Xyz probe = to_xyz(0.25, 2.0, 0.5);
+  const Xyz want = mul(m, Rgb{0.25, 2.0, 0.5});
+  if (relative_error(probe, want) > 1e-5)
+    throw Error("colour space '" + std::string(space) +
+                "' is not linear: the figures need a scene-linear working space");
+  return m;
+}
+
+void write_sphere_png(const std::string& path, const SphereGeometry& g, const std::vector<Xyz>& xyz,
+                      const SphereView& view, const ColourSpaces& spaces) {
+  const int size = g.size;
+  std::vector<float> pixels(static_cast<std::size_t>(size) * size * 3);
+  for (std::size_t i = 0; i < xyz.size(); ++i) {
+    // The sphere's pixel already carries its coverage; the background fills the rest.
+    const Xyz v = view.exposure * xyz[i] + (1 - g.coverage[i]) * view.background;
+    pixels[3 * i] = static_cast<float>(v.X);
+    pixels[3 * i + 1] = static_cast<float>(v.Y);
+    pixels[3 * i + 2] = static_cast<float>(v.Z);
+  }
+  spaces.from_xyz("sRGB - Texture").apply(pixels.data(), xyz.size());
+  for (float& p : pixels) p = std::isfinite(p) ? std::clamp(p, 0.0f, 1.0f) : 0.0f;
+
+  OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  buf.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pixels.data());
+  const std::string font = find_font();
+  const int text = std::max(10, size / 28);
+  draw_text(buf, size / 4, text + 6, view.left_label, text, font, 0.8f, TextAlignX::Center);
+  draw_text(buf, 3 * size / 4, text + 6, view.right_label, text, font, 0.8f, TextAlignX::Center);
+  write_png(buf, path);
+}
+
+void write_delta_e_png(const std::string& path, const SphereGeometry& g, const MirrorDifference& d,
+                       double scale, const std::string& caption) {
+  const int size = g.size;
+  const int height = delta_e_map_height(size);
+  OIIO::ImageSpec spec(size, height, 3, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  const float grey[3] = {0.5f, 0.5f, 0.5f};
+  OIIO::ImageBufAlgo::fill(buf, grey);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * size + x;
+      if (g.coverage[i] == 0) continue;
+      const auto c = ramp(d.delta_e[i] / scale);
+      buf.setpixel(x, y, c.data(), 3);
+    }
+  // The colour bar under the map, with its ends and middle labelled.
+  const int bar_top = size + 8, bar_height = 16, margin = size / 16;
+  for (int x = margin; x < size - margin; ++x) {
+    const auto c = ramp(static_cast<double>(x - margin) / (size - 2 * margin - 1));
+    for (int y = bar_top; y < bar_top + bar_height; ++y) buf.setpixel(x, y, c.data(), 3);
+  }
+  const std::string font = find_font();
+  const int text = std::max(10, size / 40);
+  const int label_y = bar_top + bar_height + text + 2;
+  draw_text(buf, margin, label_y, "0", text, font, 0.0f, TextAlignX::Center);
+  draw_text(buf, size / 2, label_y, fmt::format("{:g}", scale / 2), text, font, 0.0f,
+            TextAlignX::Center);
+  draw_text(buf, size - margin, label_y, fmt::format(">= {:g}", scale), text, font, 0.0f,
+            TextAlignX::Center);
+  draw_text(buf, size / 2, label_y + text + 8, caption, text, font, 0.0f, TextAlignX::Center);
+  write_png(buf, path);
+}
+
+}  // namespace spectralize::figures

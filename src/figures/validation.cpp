@@ -1,0 +1,328 @@
+#include "figures/validation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "core/colorimetry.h"
+#include "core/colour_difference.h"
+#include "core/error.h"
+#include "core/sample_weights.h"
+
+namespace spectralize::figures {
+
+namespace {
+
+constexpr std::string_view kCheckerFile = "colorchecker_n_ohta_5nm.csv";
+
+// The measured reflectances on the grid (linear interpolation of the stored samples).
+struct Patch {
+  std::string name;
+  std::vector<double> rho;
+};
+
+std::vector<Patch> load_patches(const WavelengthGrid& grid) {
+  std::vector<Patch> patches;
+  for (const std::string& name : embedded_columns(kCheckerFile)) {
+    const auto [nm, values] = embedded_column(kCheckerFile, name);
+    if (nm.front() > grid.start() || nm.back() < grid.end())
+      throw Error("'" + std::string(kCheckerFile) + "' covers " + std::to_string(nm.front()) +
+                  ".." + std::to_string(nm.back()) + " nm, not the grid " + grid.to_string());
+    Patch p{name, std::vector<double>(grid.size())};
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      const double l = grid[i];
+      const std::size_t j =
+          static_cast<std::size_t>(std::upper_bound(nm.begin(), nm.end(), l) - nm.begin());
+      if (j >= nm.size()) {
+        p.rho[i] = values.back();
+        continue;
+      }
+      const double t = (l - nm[j - 1]) / (nm[j] - nm[j - 1]);
+      p.rho[i] = (1 - t) * values[j - 1] + t * values[j];
+    }
+    patches.push_back(std::move(p));
+  }
+  if (patches.size() != 24)
+    throw Error("'" + std::string(kCheckerFile) + "' has " + std::to_string(patches.size()) +
+                " patches, expected 24");
+  return patches;
+}
+
+// An illuminant whose 1 nm table is the piecewise-linear spectrum `values` on `grid` (zero
+// outside it): how a light given on the grid is applied to reflectances.
+Illuminant light_on_table(const std::string& name, const WavelengthGrid& grid,
+                          const std::vector<double>& values) {
+  Illuminant il{name, std::vector<double>(ReferenceTable::kSize)};
+  for (std::size_t k = 0; k < ReferenceTable::kSize; ++k)
+    il.spd[k] = piecewise_linear(grid, values, ReferenceTable::wavelength(k));
+  return il;
+}
+
+double rms_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(s / static_cast<double>(a.size()));
+}
+
+// Viewing conditions: XYZ of a reflectance under a light (rho == 1 has Y = 1) and its white.
+struct Viewing {
+  SampleWeights weights;
+  Xyz white;
+  Lab lab(const std::vector<double>& rho) const { return to_lab(weights.integrate(rho), white); }
+};
+
+Viewing viewing(const WavelengthGrid& grid, const Observer& obs, const Illuminant& light) {
+  SampleWeights w(grid, obs, &light);
+  const Xyz white = w.unit_white();
+  return {std::move(w), white};
+}
+
+std::array<double, 3> triple(const Xyz& v) {
+  return {v.X, v.Y, v.Z};
+}
+
+PatchResult run_patch(const Spectralizer& sp, const ColourTransform& to_xyz,
+                      const ColourTransform& from_xyz, const Patch& patch, const Viewing& d65,
+                      const Viewing& a, const Viewing& f11) {
+  const SpectralizerSettings& settings = sp.settings();
+  PatchResult r;
+  r.name = patch.name;
+  // The patch's colour as an RGB texture holds it: under D65, relative to the reflected white
+  // (the paper's eq. 6), in the space; clipped to [0, 1] when outside.
+  const Xyz measured = d65.weights.integrate(patch.rho);
+  const Xyz balanced = hadamard(measured, Xyz{kWhiteD65.X / d65.white.X, kWhiteD65.Y / d65.white.Y,
+                                              kWhiteD65.Z / d65.white.Z});
+  Xyz rgb = from_xyz(balanced.X, balanced.Y, balanced.Z);
+  for (int c = 0; c < 3; ++c) {
+    const double clipped = std::clamp(rgb[c], 0.0, 1.0);
+    r.clipped = r.clipped || clipped != rgb[c];
+    rgb[c] = clipped;
+  }
+  r.rgb = triple(rgb);
+  const Xyz input = to_xyz(rgb.X, rgb.Y, rgb.Z);
+  const SpectrumResult s = sp.spectralize(input);
+  r.status = std::string(to_string(s.status));
+  const std::vector<double>& rho = s.values;
+
+  // Exactness by the reference integration itself, not the solver's weights.
+  const Xyz xyz = integrate_reference(settings.grid, rho, sp.observer(), sp.illuminant(),
+                                      d65.weights.normalisation());
+  r.relative_xyz_error = relative_error(xyz, s.target);
+  r.delta_e_d65 = delta_e_2000(to_lab(xyz, d65.white), to_lab(sp.target_of(input), d65.white));
+  r.delta_e_d65_measured = delta_e_2000(to_lab(xyz, d65.white), to_lab(measured, d65.white));
+  r.delta_e_a = delta_e_2000(a.lab(rho), a.lab(patch.rho));
+  r.delta_e_f11 = delta_e_2000(f11.lab(rho), f11.lab(patch.rho));
+  r.rmse = rms_difference(rho, patch.rho);
+  r.roughness = roughness(rho);
+  r.roughness_measured = roughness(patch.rho);
+  r.edge_ratio = edge_ratio(settings.grid, rho);
+  r.edge_ratio_measured = edge_ratio(settings.grid, patch.rho);
+  r.rho_min = *std::min_element(rho.begin(), rho.end());
+  r.rho_max = *std::max_element(rho.begin(), rho.end());
+  return r;
+}
+
+LightResult run_light(const Spectralizer& sp, const ColourTransform& to_xyz,
+                      const ColourTransform& from_xyz, const std::string& name,
+                      const std::vector<Patch>& patches) {
+  const SpectralizerSettings& settings = sp.settings();
+  const WavelengthGrid& grid = settings.grid;
+  LightResult r;
+  r.name = name;
+  // The real SPD sampled on the grid (the spectrum the reconstruction is compared with),
+  // normalised to Y = 1.
+  const Illuminant table = Illuminant::get(name);
+  std::vector<double> real(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double u = grid[i] - ReferenceTable::kStartNm;  // position on the 1 nm table
+    const std::size_t k = std::min(static_cast<std::size_t>(u), ReferenceTable::kSize - 2);
+    const double t = u - static_cast<double>(k);
+    real[i] = (1 - t) * table.spd[k] + t * table.spd[k + 1];
+  }
+  const double y_real = sp.weights().integrate(real).Y;
+  for (double& v : real) v /= y_real;
+  const Xyz xyz_real = sp.weights().integrate(real);
+
+  // The light as RGB (no clipping: scene-linear light may be negative; counted).
+  const Xyz rgb = from_xyz(xyz_real.X, xyz_real.Y, xyz_real.Z);
+  r.rgb = triple(rgb);
+  r.in_gamut = rgb.X >= 0 && rgb.Y >= 0 && rgb.Z >= 0;
+  const SpectrumResult s = sp.spectralize(to_xyz(rgb.X, rgb.Y, rgb.Z));
+  r.status = std::string(to_string(s.status));
+  const Xyz xyz =
+      integrate_reference(grid, s.values, sp.observer(), nullptr, sp.weights().normalisation());
+  r.relative_xyz_error = relative_error(xyz, s.target);
+  std::vector<double> phi = s.values;
+  for (double& v : phi) v /= xyz.Y;
+
+  // The light itself (exact up to OCIO's float maths), relative to the D65 white at Y = 1.
+  r.delta_e_light = delta_e_2000(to_lab((1 / xyz.Y) * xyz, kWhiteD65), to_lab(xyz_real, kWhiteD65));
+  r.rmse = rms_difference(phi, real);
+  r.roughness = roughness(phi);
+  r.roughness_real = roughness(real);
+  r.edge_ratio = edge_ratio(grid, phi);
+
+  // What matters for a light: the surfaces it shows. The ColorChecker under both lights,
+  // each relative to its own white (equal here, by exactness).
+  const Viewing lit_real = viewing(grid, sp.observer(), light_on_table(name, grid, real));
+  const Viewing lit_recon = viewing(grid, sp.observer(), light_on_table(name, grid, phi));
+  std::vector<double> de;
+  for (const Patch& p : patches)
+    de.push_back(delta_e_2000(lit_recon.lab(p.rho), lit_real.lab(p.rho)));
+  const Spread sd = spread(de);
+  r.checker_delta_e_median = sd.median;
+  r.checker_delta_e_max = sd.max;
+  return r;
+}
+
+// The RGB renderer's view of each patch under A and FL11: RGB (as run_patch makes it) times
+// the light's RGB, against the measurement. Both in the frame of the fixed D65 calibration
+// (rho == 1 under D65 is RGB 1, 1, 1); CIELAB is unchanged by that diagonal scaling.
+RgbBaseline rgb_baseline(const std::string& space, const ColourTransform& to_xyz,
+                         const ColourTransform& from_xyz, const std::vector<Patch>& patches,
+                         const Viewing& d65, const Viewing& a, const Viewing& f11) {
+  const Xyz calibration{kWhiteD65.X / d65.white.X, kWhiteD65.Y / d65.white.Y,
+                        kWhiteD65.Z / d65.white.Z};
+  RgbBaseline b;
+  b.space = space;
+  auto render = [&](const Patch& p, const Viewing& light) {
+    const Xyz balanced = hadamard(d65.weights.integrate(p.rho), calibration);
+    Xyz rgb = from_xyz(balanced.X, balanced.Y, balanced.Z);
+    for (int c = 0; c < 3; ++c) rgb[c] = std::clamp(rgb[c], 0.0, 1.0);
+    const Xyz white = hadamard(light.white, calibration);
+    const Xyz light_rgb = from_xyz(white.X, white.Y, white.Z);
+    const Xyz shown = to_xyz(rgb.X * light_rgb.X, rgb.Y * light_rgb.Y, rgb.Z * light_rgb.Z);
+    const Xyz truth = hadamard(light.weights.integrate(p.rho), calibration);
+    return delta_e_2000(to_lab(shown, white), to_lab(truth, white));
+  };
+  for (const Patch& p : patches) {
+    b.patches.push_back(p.name);
+    b.delta_e_a.push_back(render(p, a));
+    b.delta_e_f11.push_back(render(p, f11));
+  }
+  b.a = spread(b.delta_e_a);
+  b.f11 = spread(b.delta_e_f11);
+  return b;
+}
+
+ValidationSummary summarise(const std::vector<PatchResult>& patches) {
+  ValidationSummary s;
+  std::vector<double> d65, a, f11;
+  s.rho_min = INFINITY;
+  s.rho_max = -INFINITY;
+  for (const PatchResult& p : patches) {
+    d65.push_back(p.delta_e_d65);
+    a.push_back(p.delta_e_a);
+    f11.push_back(p.delta_e_f11);
+    s.mean_rmse += p.rmse / static_cast<double>(patches.size());
+    s.mean_roughness += p.roughness / static_cast<double>(patches.size());
+    s.mean_roughness_measured += p.roughness_measured / static_cast<double>(patches.size());
+    s.max_relative_xyz_error = std::max(s.max_relative_xyz_error, p.relative_xyz_error);
+    s.max_edge_ratio = std::max(s.max_edge_ratio, p.edge_ratio);
+    s.max_edge_ratio_measured = std::max(s.max_edge_ratio_measured, p.edge_ratio_measured);
+    s.rho_min = std::min(s.rho_min, p.rho_min);
+    s.rho_max = std::max(s.rho_max, p.rho_max);
+    s.clipped += p.clipped ? 1 : 0;
+  }
+  s.delta_e_d65 = spread(d65);
+  s.delta_e_a = spread(a);
+  s.delta_e_f11 = spread(f11);
+  return s;
+}
+
+}  // namespace
+
+std::vector<ValidationConfig> validation_configs() {
+  return {{"paper, filter " + default_edge_filter().to_string() + " (default)", Model::paper,
+           default_edge_filter()},
+          {"paper, filter 0.5", Model::paper, EdgeFilter::parse("0.5")},
+          {"paper, filter 0.9", Model::paper, EdgeFilter::parse("0.9")},
+          {"smooth", Model::smooth, default_edge_filter()}};
+}
+
+std::vector<std::string> validation_spaces() {
+  return {"Linear Rec.709 (sRGB)", "Linear Rec.2020"};
+}
+
+Spread spread(std::vector<double> v) {
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) {
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const std::size_t i = static_cast<std::size_t>(pos);
+    if (i + 1 >= v.size()) return v.back();
+    return v[i] + (pos - static_cast<double>(i)) * (v[i + 1] - v[i]);
+  };
+  return {at(0.5), at(0.95), v.back()};
+}
+
+double roughness(const std::vector<double>& x) {
+  if (x.size() < 3) return 0;
+  double s = 0;
+  for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+    const double d2 = x[i - 1] - 2 * x[i] + x[i + 1];
+    s += d2 * d2;
+  }
+  return std::sqrt(s / static_cast<double>(x.size() - 2));
+}
+
+double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x) {
+  double edge = 0, interior = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (grid[i] <= grid.start() + 20 || grid[i] >= grid.end() - 20) edge = std::max(edge, x[i]);
+    if (grid[i] >= 400 && grid[i] <= 700) {
+      interior += x[i];
+      ++n;
+    }
+  }
+  return n && interior > 0 ? edge / (interior / static_cast<double>(n)) : 0.0;
+}
+
+Validation validate(const ColourSpaces& spaces) {
+  const SpectralizerSettings defaults;
+  const Observer& obs = Observer::get(defaults.observer);
+  const std::vector<Patch> patches = load_patches(defaults.grid);
+  const Viewing d65 = viewing(defaults.grid, obs, Illuminant::get("D65"));
+  const Viewing a = viewing(defaults.grid, obs, Illuminant::get("A"));
+  const Viewing f11 = viewing(defaults.grid, obs, Illuminant::get("FL11"));
+
+  Validation results;
+  for (const std::string& space : validation_spaces())
+    results.baselines.push_back(
+        rgb_baseline(space, spaces.to_xyz(space), spaces.from_xyz(space), patches, d65, a, f11));
+  for (const ValidationConfig& config : validation_configs())
+    for (const std::string& space : validation_spaces()) {
+      ConfigResult c;
+      c.config = config;
+      c.space = space;
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        const ColourTransform to_xyz = spaces.to_xyz(space);
+        const ColourTransform from_xyz = spaces.from_xyz(space);
+        SpectralizerSettings settings = defaults;
+        settings.model = config.model;
+        settings.filter = config.filter;
+        settings.mode = Mode::reflectance;
+        const Spectralizer surfaces(settings);
+        for (const Patch& p : patches)
+          c.patches.push_back(run_patch(surfaces, to_xyz, from_xyz, p, d65, a, f11));
+        settings.mode = Mode::emission;
+        const Spectralizer lights(settings);
+        for (const char* light : {"A", "D50", "FL2"})
+          c.lights.push_back(run_light(lights, to_xyz, from_xyz, light, patches));
+        c.summary = summarise(c.patches);
+      } catch (const Error& e) {
+        c.available = false;
+        c.error = e.what();
+        c.patches.clear();
+        c.lights.clear();
+      }
+      c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      results.configs.push_back(std::move(c));
+    }
+  return results;
+}
+
+}  // namespace spectralize::figures

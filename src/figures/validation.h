@@ -1,0 +1,131 @@
+#pragma once
+// `spectralize_figures validate OUTDIR`: how the reconstructed spectra compare with measured
+// ones. The 24 ColorChecker reflectances (Ohta) are turned into colours under D65 in a working
+// space, spectralized as reflectances and compared with the measurement under D65 (the round
+// trip), A and FL11 (metamerism), spectrally (RMSE) and in roughness; CIE illuminants A, D50
+// and FL2 given as RGB are spectralized as lights and compared with their real SPDs. Each
+// configuration (model, edge filter) is one entry of validation_configs().
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/edge_filter.h"
+#include "core/spectralizer.h"
+#include "io/colour_space.h"
+
+namespace spectralize::figures {
+
+/// One way of spectralizing: a row of the summary tables.
+struct ValidationConfig {
+  std::string name;  // e.g. "paper, filter auto (default)"
+  Model model = Model::paper;
+  EdgeFilter filter;
+};
+
+/// The configurations validated: the paper model with the default filter and two fixed ones,
+/// and the smooth model. Cost: O(1).
+std::vector<ValidationConfig> validation_configs();
+
+/// The working spaces the colours are given in. Cost: O(1).
+std::vector<std::string> validation_spaces();
+
+/// One ColorChecker patch, measured spectrum against reconstruction.
+struct PatchResult {
+  std::string name;
+  std::array<double, 3> rgb{};      // the patch's colour in the space (after clipping)
+  bool clipped = false;             // outside [0, 1] in the space: clipped as a texture would
+  std::string status;               // the spectralizer's status
+  double delta_e_d65 = 0;           // round trip: spectrum vs the input colour, under D65
+  double delta_e_d65_measured = 0;  // spectrum vs measurement under D65 (differs if clipped)
+  double delta_e_a = 0;             // spectrum vs measurement under A
+  double delta_e_f11 = 0;           // ... under FL11
+  double rmse = 0;                  // RMS of reconstruction - measurement over the grid
+  double roughness = 0;             // RMS of second differences of the reconstruction
+  double roughness_measured = 0;    // ... of the measurement
+  double edge_ratio = 0;            // edge_ratio() of the reconstruction
+  double edge_ratio_measured = 0;   // ... of the measurement
+  double relative_xyz_error = 0;    // |XYZ(spectrum) - target| / |target| (max norm)
+  double rho_min = 0, rho_max = 0;
+};
+
+/// One CIE illuminant given as RGB and spectralized as a light (all normalised to Y = 1).
+struct LightResult {
+  std::string name;
+  std::array<double, 3> rgb{};
+  bool in_gamut = true;  // all RGB components >= 0 in the space
+  std::string status;
+  double delta_e_light = 0;   // the light's own colour, reconstruction vs real
+  double rmse = 0;            // RMS spectral difference, reconstruction vs real SPD
+  double roughness = 0;       // RMS of second differences of the reconstruction
+  double roughness_real = 0;  // ... of the real SPD on the grid
+  double edge_ratio = 0;      // edge_ratio() of the reconstruction
+  double relative_xyz_error = 0;
+  double checker_delta_e_median = 0;  // ColorChecker lit by the reconstruction vs the real
+  double checker_delta_e_max = 0;     // light (measured reflectances, CIEDE2000)
+};
+
+/// Median, 95th percentile (linear interpolation) and maximum.
+struct Spread {
+  double median = 0, p95 = 0, max = 0;
+};
+
+struct ValidationSummary {
+  Spread delta_e_d65, delta_e_a, delta_e_f11;
+  double mean_rmse = 0, mean_roughness = 0, mean_roughness_measured = 0;
+  double max_relative_xyz_error = 0;
+  double max_edge_ratio = 0, max_edge_ratio_measured = 0;
+  double rho_min = 0, rho_max = 0;
+  std::size_t clipped = 0;  // patches outside the space's [0, 1] cube
+};
+
+/// Everything measured for one configuration in one space.
+struct ConfigResult {
+  ValidationConfig config;
+  std::string space;
+  bool available = true;  // false: the configuration threw (error says why)
+  std::string error;
+  std::vector<PatchResult> patches;
+  std::vector<LightResult> lights;
+  ValidationSummary summary;
+  double seconds = 0;
+};
+
+/// The baseline: an RGB renderer, which shows a patch under a light as the patch's RGB times
+/// the light's RGB (the light's colour in the space), against the measured spectrum under that
+/// light. Independent of the configuration; one per space.
+struct RgbBaseline {
+  std::string space;
+  std::vector<std::string> patches;
+  std::vector<double> delta_e_a, delta_e_f11;  // per patch
+  Spread a, f11;
+};
+
+/// Everything validate() measured.
+struct Validation {
+  std::vector<ConfigResult> configs;
+  std::vector<RgbBaseline> baselines;
+};
+
+/// Median / p95 / max of `values` (empty: zeros). Cost: O(n log n).
+Spread spread(std::vector<double> values);
+
+/// RMS of the second differences x[i-1] - 2 x[i] + x[i+1]. Cost: O(N).
+double roughness(const std::vector<double>& x);
+
+/// The edge-peak figure of the README's filter study: the largest sample within 20 nm of
+/// either end of the grid over the mean of the samples in 400..700 nm. Cost: O(N).
+double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x);
+
+/// Runs every configuration in every space, and the RGB baseline. Configurations that throw
+/// are kept, marked unavailable. Throws Error only for missing data or an unknown space.
+/// Cost: ~0.05 s per configuration and space.
+Validation validate(const ColourSpaces& spaces);
+
+/// validate(), then writes OUTDIR/colorchecker.json and OUTDIR/colorchecker.md (temporary
+/// files, renamed) and prints the summary to `out`. Throws Error naming the file and the
+/// reason. Cost: validate() + ms.
+void run_validation(const std::string& outdir, std::ostream& out);
+
+}  // namespace spectralize::figures

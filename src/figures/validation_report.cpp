@@ -1,0 +1,270 @@
+#include "figures/validation_report.h"
+
+#include <fmt/core.h>
+#include <fmt/ostream.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "core/error.h"
+#include "core/spectralizer.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize::figures {
+
+namespace {
+
+nlohmann::json spread_json(const Spread& s) {
+  return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
+}
+
+std::string spread_md(const Spread& s) {
+  return fmt::format("{:.3g} / {:.3g} / {:.3g}", s.median, s.p95, s.max);
+}
+
+// "Linear Rec.709 (sRGB)" -> "sRGB" in tables.
+std::string short_space(const std::string& space) {
+  return space == "Linear Rec.709 (sRGB)" ? "sRGB"
+         : space == "Linear Rec.2020"     ? "Rec.2020"
+                                          : space;
+}
+
+constexpr const char* kDefinitions[][2] = {
+    {"delta_e_d65",
+     "CIEDE2000 under D65 between the reconstructed spectrum and the input colour "
+     "(the round trip; the spectralizer is exact, so ~0)"},
+    {"delta_e_d65_measured",
+     "CIEDE2000 under D65 between reconstruction and measurement "
+     "(differs from delta_e_d65 only for patches clipped to the space)"},
+    {"delta_e_a",
+     "CIEDE2000 under CIE illuminant A between reconstruction and measurement "
+     "(metamerism), CIELAB relative to the white (rho == 1) under A"},
+    {"delta_e_f11", "the same under CIE FL11 (F11, a narrow-band fluorescent lamp)"},
+    {"rmse", "RMS difference of reconstruction and measurement over the grid samples"},
+    {"roughness", "RMS of the second differences x[i-1] - 2 x[i] + x[i+1] over the grid (5 nm)"},
+    {"edge_ratio",
+     "the largest sample within 20 nm of either end of the grid over the mean of "
+     "the samples in 400..700 nm (the README's edge-peak figure)"},
+    {"relative_xyz_error",
+     "max |XYZ - target| / max |target|, XYZ by the reference integration "
+     "(1 nm CIE tables, piecewise-linear spectrum)"},
+    {"lights",
+     "CIE A, D50, FL2 sampled on the grid, normalised to Y = 1, given as RGB in the "
+     "space, spectralized as emission and normalised to Y = 1; checker_delta_e: the 24 "
+     "measured patches lit by the reconstructed vs the real light, each relative to its "
+     "white"},
+};
+
+void write_file(const fs::path& path, const std::string& text) {
+  const fs::path temp = path.parent_path() / fmt::format(".{}.tmp", path.filename().string());
+  {
+    std::ofstream f(temp, std::ios::binary);
+    f << text;
+    f.close();
+    if (!f) {
+      std::error_code ec;
+      fs::remove(temp, ec);
+      throw Error("cannot write '" + path.string() + "': write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) throw Error("cannot write '" + path.string() + "': " + ec.message());
+}
+
+}  // namespace
+
+std::string validation_json(const Validation& results) {
+  const SpectralizerSettings defaults;
+  nlohmann::json doc;
+  doc["data"] = "colorchecker_n_ohta_5nm.csv";
+  doc["grid"] = defaults.grid.to_string();
+  doc["observer"] = defaults.observer;
+  doc["reference_illuminant"] = defaults.illuminant;
+  for (const auto& d : kDefinitions) doc["definitions"][d[0]] = d[1];
+  doc["configurations"] = nlohmann::json::array();
+  for (const ConfigResult& c : results.configs) {
+    nlohmann::json j;
+    j["name"] = c.config.name;
+    j["model"] = std::string(to_string(c.config.model));
+    j["filter"] = c.config.model == Model::paper ? c.config.filter.to_string() : "";
+    j["space"] = c.space;
+    j["available"] = c.available;
+    if (!c.available) j["error"] = c.error;
+    j["seconds"] = c.seconds;
+    const ValidationSummary& s = c.summary;
+    j["summary"] = {{"delta_e_d65", spread_json(s.delta_e_d65)},
+                    {"delta_e_a", spread_json(s.delta_e_a)},
+                    {"delta_e_f11", spread_json(s.delta_e_f11)},
+                    {"mean_rmse", s.mean_rmse},
+                    {"mean_roughness", s.mean_roughness},
+                    {"mean_roughness_measured", s.mean_roughness_measured},
+                    {"max_relative_xyz_error", s.max_relative_xyz_error},
+                    {"max_edge_ratio", s.max_edge_ratio},
+                    {"max_edge_ratio_measured", s.max_edge_ratio_measured},
+                    {"rho_min", s.rho_min},
+                    {"rho_max", s.rho_max},
+                    {"clipped_patches", s.clipped}};
+    j["patches"] = nlohmann::json::array();
+    for (const PatchResult& p : c.patches)
+      j["patches"].push_back({{"name", p.name},
+                              {"rgb", p.rgb},
+                              {"clipped", p.clipped},
+                              {"status", p.status},
+                              {"delta_e_d65", p.delta_e_d65},
+                              {"delta_e_d65_measured", p.delta_e_d65_measured},
+                              {"delta_e_a", p.delta_e_a},
+                              {"delta_e_f11", p.delta_e_f11},
+                              {"rmse", p.rmse},
+                              {"roughness", p.roughness},
+                              {"roughness_measured", p.roughness_measured},
+                              {"edge_ratio", p.edge_ratio},
+                              {"edge_ratio_measured", p.edge_ratio_measured},
+                              {"relative_xyz_error", p.relative_xyz_error},
+                              {"rho_min", p.rho_min},
+                              {"rho_max", p.rho_max}});
+    j["lights"] = nlohmann::json::array();
+    for (const LightResult& l : c.lights)
+      j["lights"].push_back({{"name", l.name},
+                             {"rgb", l.rgb},
+                             {"in_gamut", l.in_gamut},
+                             {"status", l.status},
+                             {"delta_e_light", l.delta_e_light},
+                             {"rmse", l.rmse},
+                             {"roughness", l.roughness},
+                             {"roughness_real", l.roughness_real},
+                             {"edge_ratio", l.edge_ratio},
+                             {"relative_xyz_error", l.relative_xyz_error},
+                             {"checker_delta_e_median", l.checker_delta_e_median},
+                             {"checker_delta_e_max", l.checker_delta_e_max}});
+    doc["configurations"].push_back(std::move(j));
+  }
+  doc["rgb_renderer"] = nlohmann::json::array();
+  for (const RgbBaseline& b : results.baselines) {
+    nlohmann::json j{{"space", b.space},
+                     {"delta_e_a", spread_json(b.a)},
+                     {"delta_e_f11", spread_json(b.f11)},
+                     {"patches", nlohmann::json::array()}};
+    for (std::size_t i = 0; i < b.patches.size(); ++i)
+      j["patches"].push_back({{"name", b.patches[i]},
+                              {"delta_e_a", b.delta_e_a[i]},
+                              {"delta_e_f11", b.delta_e_f11[i]}});
+    doc["rgb_renderer"].push_back(std::move(j));
+  }
+  return doc.dump(1) + "\n";
+}
+
+std::string summary_table(const Validation& results) {
+  std::string md =
+      "| configuration | space | ΔE00 D65 (round trip) med / p95 / max | ΔE00 A med / p95 / max "
+      "| ΔE00 F11 med / p95 / max | mean RMSE | mean roughness | max edge ratio | max rel. XYZ "
+      "error | ρ min … max |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const ConfigResult& c : results.configs) {
+    if (!c.available) {
+      md += fmt::format("| {} | {} | unavailable: {} | | | | | | | |\n", c.config.name,
+                        short_space(c.space), c.error);
+      continue;
+    }
+    const ValidationSummary& s = c.summary;
+    md += fmt::format(
+        "| {} | {}{} | {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
+        c.config.name, short_space(c.space),
+        s.clipped ? fmt::format(" ({} clipped)", s.clipped) : "", spread_md(s.delta_e_d65),
+        spread_md(s.delta_e_a), spread_md(s.delta_e_f11), s.mean_rmse, s.mean_roughness,
+        s.max_edge_ratio, s.max_relative_xyz_error, s.rho_min, s.rho_max);
+  }
+  // What the spectra are for: an RGB renderer gets A and F11 this wrong on the same patches.
+  for (const RgbBaseline& b : results.baselines)
+    md += fmt::format(
+        "| RGB renderer (no spectra; baseline) | {} | 0 by construction | {} | {} | "
+        "| | | | |\n",
+        short_space(b.space), spread_md(b.a), spread_md(b.f11));
+  return md;
+}
+
+std::string lights_table(const std::vector<ConfigResult>& results) {
+  std::string md =
+      "| configuration | space | light | RGB | spectral RMSE | roughness (real) | edge ratio | "
+      "ΔE00 of the light | ColorChecker under it: ΔE00 med / max |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
+  for (const ConfigResult& c : results)
+    for (const LightResult& l : c.lights)
+      md += fmt::format(
+          "| {} | {} | {} | {:.3f}, {:.3f}, {:.3f}{} | {:.4f} | {:.4f} ({:.4f}) | "
+          "{:.2f} | {:.1e} | {:.3g} / {:.3g} |\n",
+          c.config.name, short_space(c.space), l.name, l.rgb[0], l.rgb[1], l.rgb[2],
+          l.in_gamut ? "" : " (out of gamut)", l.rmse, l.roughness, l.roughness_real, l.edge_ratio,
+          l.delta_e_light, l.checker_delta_e_median, l.checker_delta_e_max);
+  return md;
+}
+
+std::string validation_markdown(const Validation& v) {
+  const std::vector<ConfigResult>& results = v.configs;
+  const SpectralizerSettings defaults;
+  std::string md = "# ColorChecker validation\n\n";
+  md += fmt::format(
+      "Made by `make validate` (`spectralize_figures validate`). The 24 ColorChecker "
+      "reflectances measured by N. Ohta (`data/colorchecker_n_ohta_5nm.csv`) are turned into "
+      "colours under D65 (relative to the reflected white, the paper's eq. 6) in each space — "
+      "clipped to [0, 1] when outside it, as a texture would hold them —, spectralized as "
+      "reflectances ({} nm, {}, reference illuminant {}) and compared with the measurement. "
+      "Spectral figures are on the grid samples.\n\n",
+      defaults.grid.to_string(), defaults.observer, defaults.illuminant);
+  for (const auto& d : kDefinitions) md += fmt::format("- `{}`: {}\n", d[0], d[1]);
+  md += "\n## Reflectances: summary\n\n" + summary_table(v);
+  if (!results.empty() && results[0].available)
+    md += fmt::format(
+        "\nThe measured spectra, for comparison: mean roughness {:.4f}, max edge ratio {:.2f} "
+        "(red patches reflect most at the long end: for reflectances a high edge ratio is not "
+        "by itself an artefact).\n",
+        results[0].summary.mean_roughness_measured, results[0].summary.max_edge_ratio_measured);
+  md += fmt::format(
+      "\nThe RGB renderer rows show each patch under A and F11 as its RGB times the light's RGB "
+      "(the light's colour in the space, as a renderer without spectra does), against the "
+      "measured spectrum under that light.\n");
+  md += "\n## Lights: CIE illuminants given as RGB\n\n" + lights_table(results);
+  for (const ConfigResult& c : results) {
+    md += fmt::format("\n## {} — {}\n\n", c.config.name, c.space);
+    if (!c.available) {
+      md += "Unavailable: " + c.error + "\n";
+      continue;
+    }
+    md +=
+        "| patch | RGB | status | ΔE00 D65 | ΔE00 D65 vs measured | ΔE00 A | ΔE00 F11 | RMSE | "
+        "roughness (measured) | edge ratio | rel. XYZ error | ρ min … max |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const PatchResult& p : c.patches)
+      md += fmt::format(
+          "| {} | {:.4f}, {:.4f}, {:.4f}{} | {} | {:.1e} | {:.3g} | {:.3g} | {:.3g} | {:.4f} | "
+          "{:.4f} ({:.4f}) | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
+          p.name, p.rgb[0], p.rgb[1], p.rgb[2], p.clipped ? " (clipped)" : "", p.status,
+          p.delta_e_d65, p.delta_e_d65_measured, p.delta_e_a, p.delta_e_f11, p.rmse, p.roughness,
+          p.roughness_measured, p.edge_ratio, p.relative_xyz_error, p.rho_min, p.rho_max);
+  }
+  return md;
+}
+
+void run_validation(const std::string& outdir, std::ostream& out) {
+  std::error_code ec;
+  fs::create_directories(outdir, ec);
+  if (ec) throw Error("cannot create the output folder '" + outdir + "': " + ec.message());
+  const ColourSpaces spaces = ColourSpaces::load();
+  const Validation v = validate(spaces);
+  const std::vector<ConfigResult>& results = v.configs;
+  write_file(fs::path(outdir) / "colorchecker.json", validation_json(v));
+  write_file(fs::path(outdir) / "colorchecker.md", validation_markdown(v));
+  fmt::print(out, "{}\n{}", summary_table(v), lights_table(results));
+  if (!results.empty() && results[0].available)
+    fmt::print(out, "measured spectra: mean roughness {:.4f}, max edge ratio {:.2f}\n",
+               results[0].summary.mean_roughness_measured,
+               results[0].summary.max_edge_ratio_measured);
+  for (const ConfigResult& c : results)
+    if (!c.available)
+      fmt::print(out, "validate: configuration '{}' unavailable: {}\n", c.config.name, c.error);
+  fmt::print(out, "validate: wrote {}/colorchecker.json and {}/colorchecker.md\n", outdir, outdir);
+}
+
+}  // namespace spectralize::figures

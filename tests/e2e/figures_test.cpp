@@ -1,0 +1,182 @@
+// End-to-end tests of `spectralize_figures`: `figures` writes the paper's figures at their
+// stated sizes, the halves of the D65 spheres are indistinguishable (printed max dE2000 <= 0.01,
+// and the written pixels agree with their mirror pixels) while under A and F11 they are not;
+// `validate` writes the ColorChecker table with 24 patches per configuration, exact under D65.
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cli_support.h"
+
+namespace {
+
+// Runs `spectralize_figures ARGS`; stdout and stderr captured.
+e2e::Run run_figures(const std::string& args, const e2e::Scratch& dir) {
+  const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string(SPECTRALIZE_TOOL_ENV) + " " SPECTRALIZE_FIGURES_BINARY " " +
+                          args + " >" + out + " 2>" + err;
+  const int status = std::system(cmd.c_str());
+  e2e::Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = e2e::slurp(out);
+  r.err = e2e::slurp(err);
+  return r;
+}
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+};
+
+Image read_image(const std::string& path) {
+  Image img;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return img;
+  const OIIO::ImageSpec& spec = in->spec();
+  img.width = spec.width;
+  img.height = spec.height;
+  img.channels = spec.nchannels;
+  img.pixels.resize(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+  in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+  return img;
+}
+
+// Largest 8-bit difference between a pixel of the left half and its mirror pixel, over the
+// sphere's rows (the labels at the top are skipped).
+double max_mirror_difference(const Image& img) {
+  double worst = 0;
+  for (int y = img.height / 8; y < img.height; ++y)
+    for (int x = 0; x < img.width / 2; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const auto at = [&](int px) {
+          return img.pixels[(static_cast<std::size_t>(y) * img.width + px) * img.channels + c];
+        };
+        worst = std::max(worst, 255.0 * std::abs(at(x) - at(img.width - 1 - x)));
+      }
+  return worst;
+}
+
+TEST(Figures, WritesThePapersFiguresAndMeasuresTheSphereHalves) {
+  e2e::Scratch dir("figures");
+  const std::string out = dir / "figures";
+  const e2e::Run r = run_figures("figures " + out, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  // Every figure exists, at its stated size.
+  const std::map<std::string, std::pair<int, int>> sizes = {
+      {"fig1_light_spectrum.png", {1000, 600}},     {"fig3_surface_spectrum.png", {1000, 600}},
+      {"fig2_sphere_light.png", {512, 512}},        {"fig4_sphere_surface.png", {512, 512}},
+      {"fig5_sphere_surface_A.png", {512, 512}},    {"fig6_sphere_surface_F11.png", {512, 512}},
+      {"fig2_sphere_light_dE.png", {512, 592}},     {"fig4_sphere_surface_dE.png", {512, 592}},
+      {"fig5_sphere_surface_A_dE.png", {512, 592}}, {"fig6_sphere_surface_F11_dE.png", {512, 592}}};
+  for (const auto& [file, size] : sizes) {
+    const Image img = read_image(out + "/" + file);
+    EXPECT_EQ(img.width, size.first) << file;
+    EXPECT_EQ(img.height, size.second) << file;
+    EXPECT_GE(img.channels, 3) << file;
+  }
+  // Nothing but the figures (no temporary files left).
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(out)) {
+    ++files;
+    EXPECT_EQ(e.path().filename().string()[0] == '.', false) << e.path();
+  }
+  EXPECT_EQ(files, sizes.size());
+
+  // The printed differences: "NAME: max dE2000 VALUE ...", one line per sphere.
+  std::map<std::string, double> de;
+  const std::regex line(R"((fig\w+): max dE2000 ([0-9.eE+-]+))");
+  for (std::sregex_iterator it(r.out.begin(), r.out.end(), line), end; it != end; ++it)
+    de[(*it)[1]] = std::stod((*it)[2]);
+  ASSERT_EQ(de.size(), 4u) << r.out;
+  // The paper's claim: the halves are indistinguishable under the light they were made for.
+  EXPECT_LE(de.at("fig2_sphere_light"), 0.01) << r.out;
+  EXPECT_LE(de.at("fig4_sphere_surface"), 0.01) << r.out;
+  // Under other lights an RGB renderer and a spectral one legitimately disagree.
+  EXPECT_GT(de.at("fig5_sphere_surface_A"), 0.5) << r.out;
+  EXPECT_GT(de.at("fig6_sphere_surface_F11"), 0.5) << r.out;
+
+  // The written pixels say the same: mirror pixels equal (to 8-bit rounding) under D65.
+  EXPECT_LE(max_mirror_difference(read_image(out + "/fig2_sphere_light.png")), 1.0);
+  EXPECT_LE(max_mirror_difference(read_image(out + "/fig4_sphere_surface.png")), 1.0);
+  EXPECT_GT(max_mirror_difference(read_image(out + "/fig5_sphere_surface_A.png")), 10.0);
+  EXPECT_GT(max_mirror_difference(read_image(out + "/fig6_sphere_surface_F11.png")), 5.0);
+}
+
+TEST(Figures, WrongCommandLineExitsTwo) {
+  e2e::Scratch dir("figures_usage");
+  EXPECT_EQ(run_figures("paint " + dir / "x", dir).exit_code, 2);
+  EXPECT_EQ(run_figures("figures", dir).exit_code, 2);
+  const e2e::Run help = run_figures("--help", dir);
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("validate OUTDIR"), std::string::npos);
+  // An output folder that cannot be made (a file is in the way): exit 1, the path named.
+  const std::string blocker = dir.write("file", "x");
+  const e2e::Run bad = run_figures("figures " + blocker + "/sub", dir);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find(blocker), std::string::npos) << bad.err;
+}
+
+TEST(Validation, ColorCheckerTableIsExactUnderD65ForEveryConfiguration) {
+  e2e::Scratch dir("validation");
+  const std::string out = dir / "validation";
+  const e2e::Run r = run_figures("validate " + out, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(e2e::slurp(out + "/colorchecker.json"));
+  const std::string md = e2e::slurp(out + "/colorchecker.md");
+  EXPECT_NE(md.find("## Reflectances: summary"), std::string::npos);
+
+  const auto& configs = doc.at("configurations");
+  ASSERT_GE(configs.size(), 8u);  // 4 configurations x 2 spaces
+  bool smooth = false, fixed_filters = false;
+  for (const auto& c : configs) {
+    const std::string name = c.at("name");
+    SCOPED_TRACE(name + " / " + c.at("space").get<std::string>());
+    ASSERT_TRUE(c.at("available").get<bool>()) << c.value("error", "");
+    smooth = smooth || c.at("model") == "smooth";
+    fixed_filters = fixed_filters || c.at("filter") == "0.9";
+    EXPECT_NE(md.find(name), std::string::npos);
+    ASSERT_EQ(c.at("patches").size(), 24u);
+    double worst_a = 0;
+    for (const auto& p : c.at("patches")) {
+      SCOPED_TRACE(p.at("name").get<std::string>());
+      EXPECT_LE(p.at("delta_e_d65").get<double>(), 0.01);
+      EXPECT_LE(p.at("relative_xyz_error").get<double>(), 1e-5);
+      EXPECT_GE(p.at("rho_min").get<double>(), 0.0);
+      EXPECT_LE(p.at("rho_max").get<double>(), 1.0 + 1e-12);
+      // Patches inside the space come back to their measured colour under D65 too.
+      if (!p.at("clipped").get<bool>()) EXPECT_LE(p.at("delta_e_d65_measured").get<double>(), 0.01);
+      worst_a = std::max(worst_a, p.at("delta_e_a").get<double>());
+    }
+    // Metamerism is real: some reconstruction differs from its measurement under A.
+    EXPECT_GT(worst_a, 0.1);
+    EXPECT_LE(c.at("summary").at("delta_e_d65").at("max").get<double>(), 0.01);
+    ASSERT_EQ(c.at("lights").size(), 3u);
+    for (const auto& l : c.at("lights")) {
+      EXPECT_LE(l.at("relative_xyz_error").get<double>(), 1e-5);
+      EXPECT_LE(l.at("delta_e_light").get<double>(), 0.01);  // a light's own colour is exact
+      EXPECT_GE(l.at("checker_delta_e_max").get<double>(),
+                l.at("checker_delta_e_median").get<double>());
+    }
+  }
+  EXPECT_TRUE(smooth) << "the smooth model is a row of the table";
+  // The RGB renderer's baseline, one per space, on the same 24 patches.
+  ASSERT_EQ(doc.at("rgb_renderer").size(), 2u);
+  for (const auto& b : doc.at("rgb_renderer")) {
+    EXPECT_EQ(b.at("patches").size(), 24u);
+    EXPECT_GT(b.at("delta_e_a").at("max").get<double>(), 0.1);
+  }
+  EXPECT_TRUE(fixed_filters);
+  // The stdout summary is the Markdown table.
+  EXPECT_NE(r.out.find("| configuration | space |"), std::string::npos);
+}
+
+}  // namespace

@@ -1,0 +1,99 @@
+// CIELAB and CIEDE2000 against published values: the 34 test pairs of Sharma, Wu & Dalal,
+// "The CIEDE2000 color-difference formula: implementation notes, supplementary test data, and
+// mathematical observations", Color Res. Appl. 30 (2005), Table 1 (typed in from the paper; they
+// are the independent check), and CIELAB of a few XYZ values worked out by hand from CIE 015.
+
+#include "core/colour_difference.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+namespace spectralize {
+namespace {
+
+struct SharmaPair {
+  Lab lab1, lab2;
+  double de00;
+};
+
+// Table 1 of Sharma, Wu & Dalal (2005), pairs 1..34, four decimals as published.
+constexpr std::array<SharmaPair, 34> kSharma{{
+    {{50.0000, 2.6772, -79.7751}, {50.0000, 0.0000, -82.7485}, 2.0425},
+    {{50.0000, 3.1571, -77.2803}, {50.0000, 0.0000, -82.7485}, 2.8615},
+    {{50.0000, 2.8361, -74.0200}, {50.0000, 0.0000, -82.7485}, 3.4412},
+    {{50.0000, -1.3802, -84.2814}, {50.0000, 0.0000, -82.7485}, 1.0000},
+    {{50.0000, -1.1848, -84.8006}, {50.0000, 0.0000, -82.7485}, 1.0000},
+    {{50.0000, -0.9009, -85.5211}, {50.0000, 0.0000, -82.7485}, 1.0000},
+    {{50.0000, 0.0000, 0.0000}, {50.0000, -1.0000, 2.0000}, 2.3669},
+    {{50.0000, -1.0000, 2.0000}, {50.0000, 0.0000, 0.0000}, 2.3669},
+    {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0009}, 7.1792},
+    {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0010}, 7.1792},
+    {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0011}, 7.2195},
+    {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0012}, 7.2195},
+    {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0009, -2.4900}, 4.8045},
+    {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0010, -2.4900}, 4.8045},
+    {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0011, -2.4900}, 4.7461},
+    {{50.0000, 2.5000, 0.0000}, {50.0000, 0.0000, -2.5000}, 4.3065},
+    {{50.0000, 2.5000, 0.0000}, {73.0000, 25.0000, -18.0000}, 27.1492},
+    {{50.0000, 2.5000, 0.0000}, {61.0000, -5.0000, 29.0000}, 22.8977},
+    {{50.0000, 2.5000, 0.0000}, {56.0000, -27.0000, -3.0000}, 31.9030},
+    {{50.0000, 2.5000, 0.0000}, {58.0000, 24.0000, 15.0000}, 19.4535},
+    {{50.0000, 2.5000, 0.0000}, {50.0000, 3.1736, 0.5854}, 1.0000},
+    {{50.0000, 2.5000, 0.0000}, {50.0000, 3.2972, 0.0000}, 1.0000},
+    {{50.0000, 2.5000, 0.0000}, {50.0000, 1.8634, 0.5757}, 1.0000},
+    {{50.0000, 2.5000, 0.0000}, {50.0000, 3.2592, 0.3350}, 1.0000},
+    {{60.2574, -34.0099, 36.2677}, {60.4626, -34.1751, 39.4387}, 1.2644},
+    {{63.0109, -31.0961, -5.8663}, {62.8187, -29.7946, -4.0864}, 1.2630},
+    {{61.2901, 3.7196, -5.3901}, {61.4292, 2.2480, -4.9620}, 1.8731},
+    {{35.0831, -44.1164, 3.7933}, {35.0232, -40.0716, 1.5901}, 1.8645},
+    {{22.7233, 20.0904, -46.6940}, {23.0331, 14.9730, -42.5619}, 2.0373},
+    {{36.4612, 47.8580, 18.3852}, {36.2715, 50.5065, 21.2231}, 1.4146},
+    {{90.8027, -2.0831, 1.4410}, {91.1528, -1.6435, 0.0447}, 1.4441},
+    {{90.9257, -0.5406, -0.9208}, {88.6381, -0.8985, -0.7239}, 1.5381},
+    {{6.7747, -0.2908, -2.4247}, {5.8714, -0.0985, -2.2286}, 0.6377},
+    {{2.0776, 0.0795, -1.1350}, {0.9033, -0.0636, -0.5514}, 0.9082},
+}};
+
+TEST(ColourDifference, MatchesSharmaWuDalalTestData) {
+  for (std::size_t i = 0; i < kSharma.size(); ++i) {
+    const SharmaPair& p = kSharma[i];
+    EXPECT_NEAR(delta_e_2000(p.lab1, p.lab2), p.de00, 1e-4) << "pair " << i + 1;
+    // CIEDE2000 is symmetric (the published pairs 7 and 8 are the same pair swapped).
+    EXPECT_NEAR(delta_e_2000(p.lab2, p.lab1), p.de00, 1e-4) << "pair " << i + 1 << " swapped";
+  }
+}
+
+TEST(ColourDifference, EqualColoursHaveZeroDifference) {
+  for (const SharmaPair& p : kSharma) EXPECT_EQ(delta_e_2000(p.lab1, p.lab1), 0.0);
+  EXPECT_EQ(delta_e_2000({0, 0, 0}, {0, 0, 0}), 0.0);
+}
+
+TEST(ColourDifference, LabOfTheWhiteIsL100AndNeutral) {
+  const Xyz d65{0.95047, 1.0, 1.08883};
+  const Lab w = to_lab(d65, d65);
+  EXPECT_NEAR(w.L, 100, 1e-12);
+  EXPECT_NEAR(w.a, 0, 1e-12);
+  EXPECT_NEAR(w.b, 0, 1e-12);
+  // A grey at Y = 0.18 (18% card): L* = 116 * 0.18^(1/3) - 16 = 49.4961 (CIE 015 eq. 8.1).
+  const Lab grey = to_lab(0.18 * d65, d65);
+  EXPECT_NEAR(grey.L, 116 * std::cbrt(0.18) - 16, 1e-12);
+  EXPECT_NEAR(grey.L, 49.4961, 1e-4);
+  EXPECT_NEAR(grey.a, 0, 1e-12);
+  // Below (6/29)^3 the CIE's linear segment: L* = 903.3 Y (Y = 0.001 -> 0.9033).
+  EXPECT_NEAR(to_lab(0.001 * d65, d65).L, 0.9033, 1e-4);
+}
+
+TEST(ColourDifference, LabOfSrgbRedUnderD65) {
+  // sRGB red (XYZ = first column of the sRGB matrix for the white 0.95047, 1, 1.08883)
+  // relative to that white is the familiar L* 53.24, a* 80.09, b* 67.20.
+  const Xyz d65{0.95047, 1.0, 1.08883};
+  const Lab red = to_lab({0.4124564, 0.2126729, 0.0193339}, d65);
+  EXPECT_NEAR(red.L, 53.24, 0.01);
+  EXPECT_NEAR(red.a, 80.09, 0.01);
+  EXPECT_NEAR(red.b, 67.20, 0.01);
+}
+
+}  // namespace
+}  // namespace spectralize
