@@ -112,6 +112,8 @@ int main(int argc, char** argv) {
   for (double tau : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 80.0, 100.0})
     methods.push_back(
         {"smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm", Model::smooth, tau});
+  // Curvature alone (slope weight 1e-6 of it): tau = 10 um.
+  methods.push_back({"smooth, curvature only", Model::smooth, 1e4});
   for (double tau : {0.0, 20.0, 50.0})
     methods.push_back({"log smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm",
                        Model::smooth, tau, true});
