@@ -31,3 +31,12 @@ for args in "6000,5000,1000" "0.21,0.72,0.15 --mode reflectance"; do
     "$(field status "$out/color.json")" "$(field admissible "$out/color.json")" \
     "$(field dropped "$out/color.json")" "$(field relative_error "$out/color.json")"
 done
+echo
+echo "The same surface with the smooth model, and both plotted (spectralize --color ... -o PLOT):"
+"$bin" --color 0.21,0.72,0.15 --mode reflectance --model smooth --format json >"$out/color.json"
+printf '  --color %-36s status=%s relative error=%s\n' "0.21,0.72,0.15 --model smooth" \
+  "$(field status "$out/color.json")" "$(field relative_error "$out/color.json")"
+"$bin" --color 0.21,0.72,0.15 --mode reflectance -o "$out/surface_paper.png" -q
+"$bin" --color 0.21,0.72,0.15 --mode reflectance --model smooth -o "$out/surface_smooth.png" -q
+echo "  plots: $out/surface_paper.png, $out/surface_smooth.png"
+echo "More: make figures (the paper's figures), make validate (ColorChecker metamerism table)."
