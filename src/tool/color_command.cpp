@@ -83,19 +83,8 @@ int run_color(const Options& opt) {
   Spectralizer spectralizer(settings);
   std::vector<SpectrumResult> results;
   int status = kExitOk;
-  for (const Rgb& c : colours) {
-    results.push_back(spectralizer.spectralize(to_xyz(c.r, c.g, c.b)));
-    const SpectrumResult& r = results.back();
-    if (r.status == Status::out_of_gamut)
-      fmt::print(stderr,
-                 "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
-                 c.text, to_xyz.source(), r.message, r.gamut_distance);
-    if (r.status == Status::invalid) {
-      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
-                 r.message);
-      status = kExitFailure;
-    }
-  }
+  for (const Rgb& c : colours)
+    results.push_back(spectralize_colour(spectralizer, to_xyz, c, status));
 
   const auto& grid = settings.grid;
   if (format == "json") {

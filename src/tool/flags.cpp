@@ -21,6 +21,21 @@ SpectralizerSettings spectral_settings(const Options& opt) {
   return s;
 }
 
+SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
+                                  const Rgb& c, int& status) {
+  SpectrumResult r = spectralizer.spectralize(to_xyz(c.r, c.g, c.b));
+  if (r.status == Status::out_of_gamut)
+    fmt::print(stderr,
+               "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
+               c.text, to_xyz.source(), r.message, r.gamut_distance);
+  if (r.status == Status::invalid) {
+    fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
+               r.message);
+    status = kExitFailure;
+  }
+  return r;
+}
+
 // Parses "R,G,B" into three finite numbers.
 Rgb parse_rgb(const std::string& text) {
   std::vector<double> v;

@@ -37,6 +37,11 @@ struct Rgb {
 /// naming the value otherwise. Cost: O(length).
 Rgb parse_rgb(const std::string& text);
 
+/// The spectrum of one --color value; warns on stderr when it was out of gamut and mapped,
+/// reports an error and sets `status` to kExitFailure when it is invalid. Cost: one solve.
+SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
+                                  const Rgb& colour, int& status);
+
 /// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
 /// Cost: parsing the config, ~ms.
 ColourSpaces load_config(const Options& options);

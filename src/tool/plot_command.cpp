@@ -156,16 +156,7 @@ int run_plot_color(const Options& opt) {
   std::vector<std::string> results;  // one-colour details for the title
   for (std::size_t i = 0; i < colours.size(); ++i) {
     const Rgb& c = colours[i];
-    const SpectrumResult r = spectralizer.spectralize(to_xyz(c.r, c.g, c.b));
-    if (r.status == Status::out_of_gamut)
-      fmt::print(stderr,
-                 "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
-                 c.text, to_xyz.source(), r.message, r.gamut_distance);
-    if (r.status == Status::invalid) {
-      fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
-                 r.message);
-      status = kExitFailure;
-    }
+    const SpectrumResult r = spectralize_colour(spectralizer, to_xyz, c, status);
     PlotCurve curve;
     curve.label = c.text + (r.status == Status::ok || r.status == Status::black
                                 ? ""
