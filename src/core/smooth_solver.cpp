@@ -261,11 +261,11 @@ SmoothSpectrum SmoothSolver::solve(const Xyz& target, double upper,
       changed |= s != state[i];
     }
     if (!changed) {
-      // The active set is final: two proximal re-solves remove the ridge's bias (each shrinks
-      // it by ridge / smallest curvature, < 1e-4).
-      std::vector<double> centre = x;
-      for (int k = 0; k < 1 && sys.solve(state, upper, target, ws, x, nu, centre); ++k) centre = x;
-      x = centre;
+      // The active set is final: one proximal re-solve centred on x removes most of what is
+      // left of the ridge's bias (it shrinks by ridge / smallest curvature, < 1e-4). A failed
+      // solve leaves x as it was.
+      const std::vector<double> last = x;
+      sys.solve(state, upper, target, ws, x, nu, last);
       ok = true;
       break;
     }
@@ -304,8 +304,8 @@ SmoothSpectrum SmoothSolver::solve(const Xyz& target, double upper,
     for (int it = 0; it < 4 * n + 50; ++it) {
       ++out.iterations;
       if (!sys.solve(state, upper, target, ws, candidate, cand_nu, x)) {
-        // Too few free samples to meet the 3 constraints: free the bound sample whose
-        // multiplier is most wrong (or any) and retry.
+        // Too few free samples to meet the 3 constraints: free the first bound sample and
+        // retry (at most n times in all, within the cap).
         int best = -1;
         for (int i = 0; i < n && best < 0; ++i)
           if (state[i] != kFree) best = i;
