@@ -463,6 +463,11 @@ void write_raster(const SpectrumPlot& plot, const std::string& path) {
   OIIO::TypeDesc type = OIIO::TypeUInt8;
   if (format == "openexr" || format == "hdr") {
     type = format == "openexr" ? OIIO::TypeHalf : OIIO::TypeFloat;
+    // The iterator's buffer type must be the buffer's own: the drawing is HALF, so make a
+    // float copy first (found by UBSan: HALF data read as float).
+    OIIO::ImageBuf linear;
+    linear.copy(small, OIIO::TypeFloat);
+    small = std::move(linear);
     for (OIIO::ImageBuf::Iterator<float> it(small); !it.done(); ++it)
       for (int ch = 0; ch < 3; ++ch) it[ch] = srgb_to_linear(std::clamp(float(it[ch]), 0.0f, 1.0f));
   } else {

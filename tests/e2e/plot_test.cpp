@@ -290,6 +290,22 @@ TEST(PlotColor, ExtensionDecidesBetweenPlotAndPrintedSpectrum) {
     EXPECT_EQ(p.height, kHeight) << name;
     EXPECT_GT(distinct_colours(p), 50) << name;
   }
+  // The same picture, in linear light in the EXR and display sRGB in the PNG: decoding the
+  // PNG's 8-bit values with the sRGB curve (IEC 61966-2-1) gives the EXR's values to 8-bit and
+  // HALF rounding (0.01).
+  ASSERT_EQ(run("--color 0.5,0.2,0.1 -o " + dir / "p.png").exit_code, 0);
+  const Picture png = read_picture(dir / "p.png");
+  const e2e::Exr exr = e2e::read_exr(dir / "p.exr");
+  ASSERT_EQ(exr.width, png.width);
+  double worst = 0;
+  for (int y = 0; y < png.height; y += 3)
+    for (int x = 0; x < png.width; x += 3)
+      for (int c = 0; c < 3; ++c) {
+        const double v = png.at(x, y)[c] / 255.0;
+        const double lin = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+        worst = std::max(worst, std::abs(lin - exr.at(x, y, c)));
+      }
+  EXPECT_LE(worst, 0.01);
   auto r = run("--color 0.5,0.2,0.1 -o " + dir / "s.csv");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_EQ(r.out.rfind("wavelength_nm,value\n", 0), 0u) << r.out.substr(0, 80);
