@@ -70,15 +70,8 @@ int run_color(const Options& opt) {
   const std::string format = opt.format.empty() ? "csv" : opt.format;
   if (format != "csv" && format != "json")
     throw UsageError{fmt::format("--format '{}': valid formats for --color are csv, json", format)};
-  SpectralizerSettings settings = spectral_settings(opt);
-  settings.mode =
-      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
-  std::vector<Rgb> colours;
-  for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
-
-  const ColourSpaces spaces = load_config(opt);
-  std::string space = opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
-  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  const ColourInputs in = colour_inputs(opt);
+  const auto& [settings, colours, spaces, to_xyz] = in;
 
   Spectralizer spectralizer(settings);
   std::vector<SpectrumResult> results;

@@ -21,6 +21,19 @@ SpectralizerSettings spectral_settings(const Options& opt) {
   return s;
 }
 
+ColourInputs colour_inputs(const Options& opt) {
+  SpectralizerSettings settings = spectral_settings(opt);
+  settings.mode =
+      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
+  std::vector<Rgb> colours;
+  for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
+  ColourSpaces spaces = load_config(opt);
+  const std::string space =
+      opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
+  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  return {std::move(settings), std::move(colours), std::move(spaces), std::move(to_xyz)};
+}
+
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
                                   const Rgb& c, int& status) {
   SpectrumResult r = spectralizer.spectralize(to_xyz(c.r, c.g, c.b));

@@ -3,6 +3,7 @@
 // message names the flag and the value.
 
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "core/spectralizer.h"
@@ -36,6 +37,17 @@ struct Rgb {
 /// Parses --color's "R,G,B": three finite numbers (spaces around them allowed); UsageError
 /// naming the value otherwise. Cost: O(length).
 Rgb parse_rgb(const std::string& text);
+
+/// What every --color command needs: the settings (mode defaulting to emission), the parsed
+/// colours, the config and the transform of --colorspace to XYZ. UsageError for a mistake.
+/// Cost: parsing the config, ~ms.
+struct ColourInputs {
+  SpectralizerSettings settings;
+  std::vector<Rgb> colours;
+  ColourSpaces spaces;
+  ColourTransform to_xyz;
+};
+ColourInputs colour_inputs(const Options& options);
 
 /// The spectrum of one --color value; warns on stderr when it was out of gamut and mapped,
 /// reports an error and sets `status` to kExitFailure when it is invalid. Cost: one solve.

@@ -129,15 +129,8 @@ int run_plot_color(const Options& opt) {
   if (opt.colors.size() > kMaxPlotCurves)
     throw UsageError{fmt::format("--color: a plot shows at most {} colours, got {}", kMaxPlotCurves,
                                  opt.colors.size())};
-  SpectralizerSettings settings = spectral_settings(opt);
-  settings.mode =
-      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
-  std::vector<Rgb> colours;
-  for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
-  const ColourSpaces spaces = load_config(opt);
-  const std::string space =
-      opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
-  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  const ColourInputs in = colour_inputs(opt);
+  const auto& [settings, colours, spaces, to_xyz] = in;
   const SwatchColours swatch(spaces);
 
   Spectralizer spectralizer(settings);
