@@ -316,6 +316,20 @@ Projection Spectralizer::solve_paper(const Xyz& t, double upper, SpectrumResult&
 
 Projection Spectralizer::solve_smooth(const Xyz& t, double upper) const {
   SmoothSpectrum smooth = smooth_->solve(t, upper);
+  if (!smooth.converged) {
+    // Rare: targets hugging the gamut boundary (the mapping leaves them 1e-6 inside the locus),
+    // where the fast phase cycles and the solver's own projection to a feasible start stalls.
+    // The paper model's spectrum is within the bounds and exact (or within 1e-6 of it, for
+    // the dark purples where its projection stalls; the primal phase's first full step makes
+    // it exact): start the primal phase there.
+    SpectrumResult scratch;
+    const Projection paper = solve_paper(t, upper, scratch);
+    Xyz xyz;
+    for (std::size_t i = 0; i < paper.values.size(); ++i)
+      xyz = xyz + paper.values[i] * basis_columns_[i];
+    if (paper.converged || relative_error(xyz, t) <= 1e-6)
+      smooth = smooth_->solve(t, upper, paper.values);
+  }
   Projection proj;
   proj.values = std::move(smooth.values);
   proj.converged = smooth.converged;

@@ -1,8 +1,8 @@
 // libFuzzer target: the --color "R,G,B" parser, then the exact spectralizer on what it accepts
-// (10 nm, both modes): parsed values are finite, results never crash, spectra are finite and
-// non-negative, and exact to the bar (1e-5 relative). Fuzzing found reflectances of
-// dark purples next to the solid's boundary where the bounded projection stops at ~1e-5 (they
-// say so in their message): hence 1e-5 here, not double precision.
+// (10 nm, both modes, both models): parsed values are finite, results never crash, spectra are
+// finite and non-negative (reflectances <= 1), and exact to the bar (1e-5 relative).
+// Fuzzing found reflectances of dark purples next to the solid's boundary where the bounded
+// projection stops at ~1e-5 (they say so in their message): hence 1e-5 here, not double precision.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -15,17 +15,18 @@ using namespace spectralize;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  static const Spectralizer emission([] {
+  // Both modes, both models (the smooth model's quadratic programme meets the same inputs).
+  auto make = [](Mode mode, Model model) {
     SpectralizerSettings s;
     s.grid = WavelengthGrid(380, 780, 10);
-    return s;
-  }());
-  static const Spectralizer reflectance([] {
-    SpectralizerSettings s;
-    s.grid = WavelengthGrid(380, 780, 10);
-    s.mode = Mode::reflectance;
-    return s;
-  }());
+    s.mode = mode;
+    s.model = model;
+    return Spectralizer(s);
+  };
+  static const Spectralizer emission = make(Mode::emission, Model::paper);
+  static const Spectralizer reflectance = make(Mode::reflectance, Model::paper);
+  static const Spectralizer smooth_emission = make(Mode::emission, Model::smooth);
+  static const Spectralizer smooth_reflectance = make(Mode::reflectance, Model::smooth);
   tool::Rgb rgb;
   try {
     rgb = tool::parse_rgb(text);
@@ -34,10 +35,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (!std::isfinite(rgb.r) || !std::isfinite(rgb.g) || !std::isfinite(rgb.b)) __builtin_trap();
   const Xyz xyz{rgb.r, rgb.g, rgb.b};  // taken as XYZ: covers every direction
-  for (const Spectralizer* sp : {&emission, &reflectance}) {
+  for (const Spectralizer* sp : {&emission, &reflectance, &smooth_emission, &smooth_reflectance}) {
     SpectrumResult r = sp->spectralize(xyz);
+    const double upper = sp->settings().mode == Mode::reflectance ? 1.0 : INFINITY;
     for (double v : r.values)
-      if (!(v >= 0) || !std::isfinite(v)) __builtin_trap();
+      if (!(v >= 0) || !std::isfinite(v) || v > upper) __builtin_trap();
     if ((r.status == Status::ok || r.status == Status::out_of_gamut) &&
         r.target.max_abs() > 1e-300 && r.target.max_abs() < 1e300 && !(r.relative_error <= 1e-5))
       __builtin_trap();
