@@ -72,10 +72,10 @@ std::string SpectralTable::cache_key() const {
       << s.grid.to_string() << "; observer " << sp_.observer().name << "; mode "
       << to_string(s.mode) << "; illuminant "
       << (sp_.illuminant() ? sp_.illuminant()->name : std::string("none")) << "; filter "
-      << s.filter.to_string() << "; model " << to_string(s.model) << " tau " << s.curvature_nm
-      << "; basis " << (s.mode == Mode::emission ? s.emission_basis : std::string("flat"))
-      << "; nodes " << nx_ << "x" << ny_ << "x" << ns_ << " step 1/" << xy_steps_ << " S/"
-      << s_steps_;
+      << (s.model == Model::paper ? s.filter.to_string() : std::string("-")) << "; model "
+      << to_string(s.model) << " tau " << s.curvature_nm << "; basis "
+      << (s.mode == Mode::emission ? s.emission_basis : std::string("flat")) << "; nodes " << nx_
+      << "x" << ny_ << "x" << ns_ << " step 1/" << xy_steps_ << " S/" << s_steps_;
   return key.str();
 }
 

@@ -33,7 +33,8 @@ struct ImageReport {
   std::string colorspace, colorspace_reason;
   std::string mode, mode_reason;
   std::string wavelengths, observer, illuminant, filter, method, sample_format, compression;
-  std::string model, emission_basis;  // emission_basis empty for reflectances
+  std::string model, emission_basis;  // filter empty for the smooth model, emission_basis for
+                                      // reflectances
   int width = 0, height = 0, input_channels = 0, bands = 0;
   bool alpha = false;
   std::uint64_t pixels = 0;

@@ -191,7 +191,7 @@ SpectralConverter::SpectralConverter(const ImageJobSettings& job, const OIIO::Im
   rep.wavelengths = settings.grid.to_string();
   rep.observer = spectralizer.observer().name;
   rep.illuminant = spectralizer.illuminant() ? spectralizer.illuminant()->name : "";
-  rep.filter = settings.filter.to_string();
+  rep.filter = settings.model == Model::paper ? settings.filter.to_string() : "";
   rep.model = std::string(to_string(settings.model));
   rep.emission_basis = settings.mode == Mode::emission ? settings.emission_basis : "";
   rep.method = job.method == SpectralTable::Method::table ? "table" : "exact";
@@ -246,7 +246,7 @@ SpectralConverter::SpectralConverter(const ImageJobSettings& job, const OIIO::Im
   ospec.attribute("spectralize:wavelengths", rep.wavelengths);
   ospec.attribute("spectralize:observer", rep.observer);
   if (!rep.illuminant.empty()) ospec.attribute("spectralize:illuminant", rep.illuminant);
-  ospec.attribute("spectralize:filter", rep.filter);
+  if (!rep.filter.empty()) ospec.attribute("spectralize:filter", rep.filter);
   ospec.attribute("spectralize:model", rep.model);
   if (!rep.emission_basis.empty()) ospec.attribute("spectralize:emissionBasis", rep.emission_basis);
   ospec.attribute("spectralize:method", rep.method);

@@ -37,7 +37,7 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
   j["wavelengths"] = s.grid.to_string();
   j["observer"] = sp.observer().name;
   if (s.mode == Mode::reflectance) j["illuminant"] = sp.illuminant()->name;
-  j["filter"] = s.filter.to_string();
+  if (s.model == Model::paper) j["filter"] = s.filter.to_string();  // the paper model's only
   j["model"] = std::string(to_string(s.model));
   if (s.mode == Mode::emission) j["emission_basis"] = s.emission_basis;
   j["status"] = std::string(to_string(r.status));

@@ -65,7 +65,7 @@ Json report_json(const ImageReport& r) {
   j["bands"] = r.bands;
   j["observer"] = r.observer;
   if (!r.illuminant.empty()) j["illuminant"] = r.illuminant;
-  j["filter"] = r.filter;
+  if (!r.filter.empty()) j["filter"] = r.filter;  // the paper model's only
   j["model"] = r.model;
   if (!r.emission_basis.empty()) j["emission_basis"] = r.emission_basis;
   j["method"] = r.method;

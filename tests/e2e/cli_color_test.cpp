@@ -267,6 +267,8 @@ TEST(CliColor, SmoothModelIsExactBoundedAndSmoother) {
     Json j = Json::parse(smooth.out), p = Json::parse(paper.out);
     EXPECT_EQ(j["model"], "smooth");
     EXPECT_EQ(p["model"], "paper");
+    EXPECT_FALSE(j.contains("filter"));  // the edge filter is the paper model's only
+    EXPECT_TRUE(p.contains("filter"));
     std::vector<double> nm = j["wavelengths_nm"], v = j["values"];
     const bool refl = std::string(mode) == "reflectance";
     for (double x : v) {

@@ -156,6 +156,8 @@ TEST(CliImage, SmoothModelImagesAreExactAndLabelled) {
   EXPECT_LE(worst, 1e-5);
   Json rep = read_json(s / "h.json");
   EXPECT_EQ(rep["model"], "smooth");
+  EXPECT_FALSE(rep.contains("filter"));  // the paper model's only
+  EXPECT_EQ(e.attributes.count("spectralize:filter"), 0u);
   EXPECT_EQ(rep["emission_basis"], "flat");
   EXPECT_LE(rep["max_relative_xyz_error"].get<double>(), 1e-5);
 
