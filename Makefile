@@ -21,9 +21,10 @@ build: configure
 test: deps build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/).
+# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). -O1 -g1
+# (line tables only): builds in 4.6 instead of 7 min on 2 cores, the tests take 30 s longer.
 test-asan: deps
-	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECTRALIZE_SANITIZE=address,undefined -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null
+	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DSPECTRALIZE_SANITIZE=address,undefined -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E clang_format
 
