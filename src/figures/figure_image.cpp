@@ -74,19 +74,31 @@ std::array<float, 3> ramp(double t) {
 
 }  // namespace
 
-Mat3 rgb_to_xyz_matrix(const ColourSpaces& spaces, std::string_view space) {
-  const ColourTransform to_xyz = spaces.to_xyz(space);
+namespace {
+
+// The matrix of a transform that should be linear, by converting the unit vectors.
+Mat3 matrix_of(const ColourTransform& transform, std::string_view space) {
   Mat3 m{};
-  const Xyz columns[3] = {to_xyz(1, 0, 0), to_xyz(0, 1, 0), to_xyz(0, 0, 1)};
+  const Xyz columns[3] = {transform(1, 0, 0), transform(0, 1, 0), transform(0, 0, 1)};
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) m[r][c] = columns[c][r];
   // A linear space maps any colour by the matrix; a curve (sRGB - Texture) does not.
-  const Xyz probe = to_xyz(0.25, 2.0, 0.5);
+  const Xyz probe = transform(0.25, 2.0, 0.5);
   const Xyz want = mul(m, Rgb{0.25, 2.0, 0.5});
   if (relative_error(probe, want) > 1e-5)
     throw Error("colour space '" + std::string(space) +
                 "' is not linear: the figures need a scene-linear working space");
   return m;
+}
+
+}  // namespace
+
+Mat3 rgb_to_xyz_matrix(const ColourSpaces& spaces, std::string_view space) {
+  return matrix_of(spaces.to_xyz(space), space);
+}
+
+Mat3 xyz_to_rgb_matrix(const ColourSpaces& spaces, std::string_view space) {
+  return matrix_of(spaces.from_xyz(space), space);
 }
 
 void write_sphere_png(const std::string& path, const SphereGeometry& g, const std::vector<Xyz>& xyz,

@@ -15,6 +15,9 @@ namespace spectralize::figures {
 /// The RGB -> XYZ (D65) matrix of a linear colour space of the config, read off OCIO by
 /// converting the unit vectors; throws Error if the space is not linear. Cost: ~ms (OCIO).
 Mat3 rgb_to_xyz_matrix(const ColourSpaces& spaces, std::string_view space);
+/// The XYZ (D65) -> RGB matrix of the same space, read off OCIO's inverse transform the same
+/// way. Cost: ~ms (OCIO).
+Mat3 xyz_to_rgb_matrix(const ColourSpaces& spaces, std::string_view space);
 
 /// How a sphere image is shown: exposure (same for both halves), background and labels.
 struct SphereView {

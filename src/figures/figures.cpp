@@ -148,8 +148,12 @@ std::vector<SphereFigure> make_figures(const std::string& outdir, std::ostream& 
 
   const ColourSpaces spaces = ColourSpaces::load();
   const Mat3 m = rgb_to_xyz_matrix(spaces, kDefaultColourSpace);
-  Stage s{spaces, m,  inverse(m), SphereGeometry::orthographic(kSphereSize, kSphereSupersample),
-          outdir, out};
+  Stage s{spaces,
+          m,
+          xyz_to_rgb_matrix(spaces, kDefaultColourSpace),
+          SphereGeometry::orthographic(kSphereSize, kSphereSupersample),
+          outdir,
+          out};
 
   // The paper's two spectra, with the default settings.
   SpectralizerSettings light_settings;

@@ -27,8 +27,6 @@ using Mat3 = std::array<std::array<double, 3>, 3>;
 Xyz mul(const Mat3& m, const Rgb& rgb);
 /// xyz_to_rgb * (X, Y, Z). Cost: O(1).
 Rgb to_rgb(const Mat3& xyz_to_rgb, const Xyz& xyz);
-/// The inverse by cofactors; throws Error for a singular matrix. Cost: O(1).
-Mat3 inverse(const Mat3& m);
 
 /// Per pixel of a size x size image of the unit sphere filling the frame: the mean of
 /// max(0, n.v) over supersample^2 subsamples (0 off the sphere) and the covered fraction.

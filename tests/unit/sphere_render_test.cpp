@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/colour_difference.h"
+#include "figures/figure_image.h"
 
 namespace spectralize::figures {
 namespace {
@@ -130,13 +131,19 @@ TEST(MirrorDeltaE, ComparesMirrorPixelsOfTheTwoHalves) {
   EXPECT_EQ(mirror_delta_e(g, split_halves(size, left, left), white).max, 0.0);
 }
 
-TEST(Mat3, InverseUndoesTheMatrix) {
-  const Mat3 m{{{0.4124, 0.3576, 0.1805}, {0.2126, 0.7152, 0.0722}, {0.0193, 0.1192, 0.9505}}};
-  const Rgb back = to_rgb(inverse(m), mul(m, Rgb{0.21, 0.72, 0.15}));
-  EXPECT_NEAR(back.r, 0.21, 1e-14);
-  EXPECT_NEAR(back.g, 0.72, 1e-14);
-  EXPECT_NEAR(back.b, 0.15, 1e-14);
-  EXPECT_THROW(inverse(Mat3{}), std::exception);
+TEST(Mat3, MatricesReadOffOcioUndoEachOther) {
+  // RGB -> XYZ and XYZ -> RGB of Linear Rec.709, both read off OCIO: the round trip returns
+  // the colour (1e-6: OCIO's float maths); a non-linear space is refused.
+  const ColourSpaces spaces = ColourSpaces::load();
+  const Mat3 m = rgb_to_xyz_matrix(spaces, "Linear Rec.709 (sRGB)");
+  const Rgb back =
+      to_rgb(xyz_to_rgb_matrix(spaces, "Linear Rec.709 (sRGB)"), mul(m, Rgb{0.21, 0.72, 0.15}));
+  EXPECT_NEAR(back.r, 0.21, 1e-6);
+  EXPECT_NEAR(back.g, 0.72, 1e-6);
+  EXPECT_NEAR(back.b, 0.15, 1e-6);
+  // The Rec.709 primaries (IEC 61966-2-1): Y of the green primary is 0.7152.
+  EXPECT_NEAR(m[1][1], 0.7152, 1e-4);
+  EXPECT_THROW(rgb_to_xyz_matrix(spaces, "sRGB - Texture"), std::exception);
 }
 
 }  // namespace
