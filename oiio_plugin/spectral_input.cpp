@@ -1,6 +1,6 @@
 // spectral.imageio.so: an OpenImageIO reader for ".spectral" recipes, so stock OIIO tools
 // (oiiotool, maketx, iinfo, ...) can spectralize RGB images or turn spectral EXRs into RGB.
-// A thin adapter: all conversion is the spectralize library's (SpectralConverter,
+// A thin adapter: all conversion is the spectralize library's (ImageConversion,
 // RgbFromSpectral); this file only parses the recipe and serves scanlines.
 
 #include <OpenImageIO/filesystem.h>
@@ -13,16 +13,18 @@
 #include <fstream>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
-#include "io/image_job.h"
-#include "io/output_spec.h"
+#include "io/colour_space.h"
+#include "io/image_conversion.h"
+#include "io/image_input.h"
+#include "io/input_interpretation.h"
+#include "io/output_metadata.h"
 #include "io/recipe.h"
 #include "io/rgb_from_spectral.h"
-#include "io/spectral_converter.h"
+#include "io/safe_output.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN
 
@@ -30,13 +32,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::size_t kMaxRecipeBytes = 1 << 20;  // a recipe is a few hundred bytes
-constexpr int kStripRows = 64;                    // rows converted at a time
+constexpr int kStripRows = 64;  // rows converted at a time
 
 // Recipes being opened on this thread: a recipe whose source leads back to one of them loops.
 thread_local std::set<std::string> t_opening;
 
+// Reads at most `limit` + 1 bytes of a regular file (never blocks on a FIFO or a device).
 bool read_text(const std::string& path, std::string& text, std::size_t limit) {
+  try {
+    spectralize::check_readable_file(path, "");
+  } catch (const spectralize::Error&) {
+    return false;
+  }
   std::ifstream f(path, std::ios::binary);
   if (!f) return false;
   text.assign(limit + 1, '\0');
@@ -67,24 +74,22 @@ class SpectralInput final : public ImageInput {
   bool fill_strip(int y);  // converts the strip of rows holding y into strip_
 
   std::string recipe_path_;
-  std::unique_ptr<ImageInput> source_;
+  std::unique_ptr<spectralize::ImageReader> source_;
+  spectralize::Settings settings_;
   // RGB -> spectral
-  spectralize::ImageJobSettings job_;
-  spectralize::ImageReport report_;
-  std::unique_ptr<spectralize::SpectralConverter> converter_;
+  std::unique_ptr<spectralize::ImageConversion> conversion_;
   // spectral -> RGB
   std::unique_ptr<spectralize::RgbFromSpectral> to_rgb_;
-  int source_channels_ = 0;
   // The current strip of converted rows, as floats.
   int strip_y0_ = 0, strip_y1_ = 0;
   std::vector<float> in_rows_, strip_;
 };
 
 bool SpectralInput::valid_file(const std::string& filename) const {
-  // Cheap and strict: the extension, a small file, and a JSON object with a string "source".
+  // Cheap and strict: the extension, a small regular file, a JSON object with a string "source".
   if (!Strutil::iends_with(filename, ".spectral")) return false;
   std::string text;
-  if (!read_text(filename, text, 64 * 1024) || text.size() > 64 * 1024) return false;
+  if (!read_text(filename, text, spectralize::kMaxRecipeBytes)) return false;
   return spectralize::looks_like_recipe(text);
 }
 
@@ -92,12 +97,8 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
   close();
   recipe_path_ = name;
   std::string text;
-  if (!read_text(name, text, kMaxRecipeBytes)) {
-    errorfmt("'{}': cannot read the recipe", name);
-    return false;
-  }
-  if (text.size() > kMaxRecipeBytes) {
-    errorfmt("'{}': too large for a recipe (over 1 MB)", name);
+  if (!read_text(name, text, spectralize::kMaxRecipeBytes)) {
+    errorfmt("'{}': cannot read the recipe (a missing, unreadable or non-regular file)", name);
     return false;
   }
   // Options as "spectral:<key>" attributes of the open configuration (OIIO's convention).
@@ -128,40 +129,34 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
       errorfmt("'{}': source '{}' does not exist", name, recipe.source);
       return false;
     }
-    source_ = ImageInput::open(recipe.source);
-    if (!source_) {
-      errorfmt("'{}': cannot read source '{}': {}", name, recipe.source, OIIO::geterror());
-      return false;
-    }
-    const ImageSpec& src = source_->spec();
-    source_channels_ = src.nchannels;
+    settings_ = recipe.settings;
+    const auto spaces = spectralize::ColourSpaces::load(settings_.config);
+    if (!settings_.colorspace.empty()) settings_.colorspace = spaces.resolve(settings_.colorspace);
     auto log = [](int, const std::string&) {};  // the plugin has no console: errors only
     if (recipe.to_rgb) {
-      const spectralize::ToRgbSettings& s = recipe.rgb;
+      source_ = std::make_unique<spectralize::ImageReader>(recipe.source, 4);
+      const ImageSpec& src = source_->spec();
       const auto layout = spectralize::analyse_spectral_layout(src, recipe.source);
-      const auto spaces = spectralize::ColourSpaces::load(s.config);
-      spectralize::RgbSettings rgb{spaces.resolve(s.colorspace), s.observer, s.illuminant};
-      to_rgb_ = std::make_unique<spectralize::RgbFromSpectral>(layout, rgb, spaces);
-      m_spec =
-          spectralize::output_spec_like(src, to_rgb_->output_channels(), s.half, layout.alpha >= 0);
-      m_spec.attribute("compression", s.compression);
-      m_spec.attribute("spectralize:colorspace", rgb.colorspace);
-      if (!layout.emissive) m_spec.attribute("spectralize:illuminant", s.illuminant);
+      if (settings_.colorspace.empty())
+        settings_.colorspace = spectralize::default_colour_space(spaces, true).first;
+      to_rgb_ = std::make_unique<spectralize::RgbFromSpectral>(layout, settings_, spaces);
+      std::string warning;
+      m_spec = spectralize::rgb_output_spec(src, layout, settings_, spaces,
+                                            spectralize::output_date_time(warning));
     } else {
-      job_ = recipe.spectral;
-      job_.output = name;
-      converter_ = std::make_unique<spectralize::SpectralConverter>(
-          job_, src, source_->format_name(), log, report_);
-      m_spec = converter_->output_spec();
-      // Scanlines only: a reader presents the image; tiles are the writer's business.
-      m_spec.tile_width = m_spec.tile_height = m_spec.tile_depth = 0;
+      source_ = std::make_unique<spectralize::ImageReader>(
+          recipe.source, static_cast<int>(settings_.spectral.grid.size()) + 4, true);
+      conversion_ = std::make_unique<spectralize::ImageConversion>(
+          recipe.source, source_->spec(), source_->format_name(), source_->straight_alpha(),
+          settings_, log);
+      m_spec = conversion_->output_spec();
     }
-  } catch (const spectralize::Error& e) {
-    errorfmt("{}", e.what());
-    source_.reset();
-    return false;
+    // Scanlines only: a reader presents the image; tiles are the writer's business.
+    m_spec.tile_width = m_spec.tile_height = m_spec.tile_depth = 0;
   } catch (const std::exception& e) {
-    errorfmt("'{}': {}", name, e.what());
+    errorfmt("{}", e.what());
+    conversion_.reset();
+    to_rgb_.reset();
     source_.reset();
     return false;
   }
@@ -170,10 +165,9 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
 }
 
 bool SpectralInput::close() {
-  if (converter_) converter_->finish(report_, [](int, const std::string&) {});
-  converter_.reset();
+  if (conversion_) conversion_->finish([](int, const std::string&) {});
+  conversion_.reset();
   to_rgb_.reset();
-  if (source_) source_->close();
   source_.reset();
   strip_y0_ = strip_y1_ = 0;
   return true;
@@ -182,27 +176,24 @@ bool SpectralInput::close() {
 bool SpectralInput::fill_strip(int y) {
   const ImageSpec& src = source_->spec();
   const int row = y - src.y;
-  strip_y0_ = src.y + (row / kStripRows) * kStripRows;
-  strip_y1_ = std::min(strip_y0_ + kStripRows, src.y + src.height);
-  const std::size_t n = static_cast<std::size_t>(src.width) * (strip_y1_ - strip_y0_);
-  in_rows_.resize(n * source_channels_);
-  if (!source_->read_scanlines(0, 0, strip_y0_, strip_y1_, 0, 0, source_channels_, TypeFloat,
-                               in_rows_.data())) {
-    errorfmt("'{}': cannot read its source: {}", recipe_path_, source_->geterror());
-    strip_y0_ = strip_y1_ = 0;
-    return false;
-  }
+  const int rows = source_->aligned_rows(kStripRows);
+  const int y0 = (row / rows) * rows, y1 = std::min(y0 + rows, src.height);
+  const std::size_t n = static_cast<std::size_t>(src.width) * (y1 - y0);
+  in_rows_.resize(n * src.nchannels);
   strip_.resize(n * m_spec.nchannels);
   try {
-    if (converter_)
-      converter_->convert(in_rows_.data(), n, strip_.data());
+    source_->read_rows(y0, y1, in_rows_.data());
+    if (conversion_)
+      conversion_->convert(in_rows_.data(), n, strip_.data());
     else
-      to_rgb_->convert(in_rows_.data(), source_channels_, n, strip_.data());
+      to_rgb_->convert(in_rows_.data(), src.nchannels, n, strip_.data(), settings_.half);
   } catch (const std::exception& e) {
     errorfmt("'{}': {}", recipe_path_, e.what());
     strip_y0_ = strip_y1_ = 0;
     return false;
   }
+  strip_y0_ = src.y + y0;
+  strip_y1_ = src.y + y1;
   return true;
 }
 

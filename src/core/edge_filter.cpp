@@ -1,5 +1,6 @@
 #include "core/edge_filter.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -68,6 +69,41 @@ std::string EdgeFilter::to_string() const {
   auto r = std::to_chars(buf, buf + sizeof buf, value_);
   std::string s(buf, r.ptr);
   return s.find('.') == std::string::npos && s.find('e') == std::string::npos ? s + ".0" : s;
+}
+
+EdgeBands::EdgeBands(std::span<const double> wavelengths) {
+  if (wavelengths.empty()) return;
+  const double first = wavelengths.front(), last = wavelengths.back();
+  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
+    const double nm = wavelengths[i];
+    if (nm <= first + EdgeFilter::kEdgeBandNm || nm >= last - EdgeFilter::kEdgeBandNm)
+      edge_.push_back(i);
+    if (nm >= 400 && nm <= 700) interior_.push_back(i);
+  }
+  if (interior_.empty())
+    for (std::size_t i = 0; i < wavelengths.size(); ++i)
+      if (std::find(edge_.begin(), edge_.end(), i) == edge_.end()) interior_.push_back(i);
+}
+
+double EdgeBands::interior_mean(std::span<const double> spectrum) const {
+  double mean = 0;
+  for (std::size_t i : interior_) mean += spectrum[i];
+  return interior_.empty() ? 0.0 : mean / static_cast<double>(interior_.size());
+}
+
+bool EdgeBands::free_of_peaks(std::span<const double> spectrum) const {
+  if (interior_.empty()) return true;
+  const double mean = interior_mean(spectrum);
+  for (std::size_t i : edge_)
+    if (spectrum[i] > mean) return false;
+  return true;
+}
+
+double EdgeBands::edge_ratio(std::span<const double> spectrum) const {
+  const double mean = interior_mean(spectrum);
+  double peak = 0;
+  for (std::size_t i : edge_) peak = std::max(peak, spectrum[i]);
+  return mean > 0 ? peak / mean : 0.0;
 }
 
 }  // namespace spectralize

@@ -5,8 +5,10 @@
 // sample within 20 nm of either end of the grid above the mean over 400-700 nm).
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace spectralize {
 
@@ -43,6 +45,29 @@ class EdgeFilter {
  private:
   Kind kind_ = Kind::fraction;
   double value_ = 0;
+};
+
+/// Where a grid's edge peaks are looked for: the samples within EdgeFilter::kEdgeBandNm of
+/// either end, against the mean over the interior (400-700 nm, or everything outside the bands
+/// for a grid that does not reach into it).
+class EdgeBands {
+ public:
+  /// No bands: every spectrum is free of edge peaks. Cost: O(1).
+  EdgeBands() = default;
+  /// The bands of samples at `wavelengths` (nm, increasing). Cost: O(N).
+  explicit EdgeBands(std::span<const double> wavelengths);
+
+  /// True when no edge sample exceeds the interior mean. Cost: O(N).
+  bool free_of_peaks(std::span<const double> spectrum) const;
+  /// Mean of the spectrum over the interior samples. Cost: O(N).
+  double interior_mean(std::span<const double> spectrum) const;
+  /// Largest edge sample over the interior mean (0 for a zero interior). Cost: O(N).
+  double edge_ratio(std::span<const double> spectrum) const;
+  /// The samples of the edge bands. Cost: O(1).
+  const std::vector<std::size_t>& edge_samples() const { return edge_; }
+
+ private:
+  std::vector<std::size_t> edge_, interior_;
 };
 
 }  // namespace spectralize

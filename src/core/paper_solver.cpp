@@ -284,20 +284,7 @@ std::size_t sum_below(const Fan& f, const float* md, float cut, Accumulators& a,
 }  // namespace
 
 PaperSolver::PaperSolver(std::span<const Xyz> weights, std::span<const double> wavelengths)
-    : n_(weights.size()) {
-  // Edge bands: within kEdgeBandNm of either end. Interior: 400-700 nm, or if the grid does not
-  // reach into it, everything outside the bands.
-  const double first = wavelengths.empty() ? 0 : wavelengths.front();
-  const double last = wavelengths.empty() ? 0 : wavelengths.back();
-  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
-    double nm = wavelengths[i];
-    if (nm <= first + EdgeFilter::kEdgeBandNm || nm >= last - EdgeFilter::kEdgeBandNm)
-      edge_.push_back(i);
-    if (nm >= 400 && nm <= 700) interior_.push_back(i);
-  }
-  if (interior_.empty())
-    for (std::size_t i = 0; i < wavelengths.size(); ++i)
-      if (std::find(edge_.begin(), edge_.end(), i) == edge_.end()) interior_.push_back(i);
+    : bands_(wavelengths), n_(weights.size()) {
   for (std::size_t i = 0; i < weights.size(); ++i) {
     double s = weights[i].sum();
     if (!(s > 0)) continue;  // a sample the eye (or the illuminant) does not see
@@ -379,20 +366,6 @@ std::size_t PaperSolver::sum_admissible(const Xyz& target, std::span<double> sum
   return count;
 }
 
-double PaperSolver::interior_mean(std::span<const double> spectrum) const {
-  double mean = 0;
-  for (std::size_t i : interior_) mean += spectrum[i];
-  return interior_.empty() ? 0.0 : mean / static_cast<double>(interior_.size());
-}
-
-bool PaperSolver::free_of_edge_peaks(std::span<const double> spectrum) const {
-  if (interior_.empty()) return true;
-  const double mean = interior_mean(spectrum);
-  for (std::size_t i : edge_)
-    if (spectrum[i] > mean) return false;
-  return true;
-}
-
 PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) const {
   PaperSpectrum out;
   out.values.assign(n_, 0.0);
@@ -426,7 +399,7 @@ PaperSpectrum PaperSolver::solve(const Xyz& target, const EdgeFilter& filter) co
       std::fill(out.values.begin(), out.values.end(), 0.0);
       for (std::size_t p = 0; p < f.m; ++p)
         out.values[active_[s.order[p]]] = target.sum() * s.acc[p] / static_cast<double>(kept);
-      if (free_of_edge_peaks(out.values)) break;
+      if (bands_.free_of_peaks(out.values)) break;
     }
     return out;
   }

@@ -34,12 +34,8 @@ class PaperSolver {
   /// Cost: O(N).
   explicit PaperSolver(std::span<const Xyz> weights) : PaperSolver(weights, {}) {}
 
-  /// True when no sample in the edge bands exceeds the mean over the interior. Cost: O(N).
-  bool free_of_edge_peaks(std::span<const double> spectrum) const;
-  /// Mean of the spectrum over the interior samples (400-700 nm). Cost: O(N).
-  double interior_mean(std::span<const double> spectrum) const;
-  /// Samples within EdgeFilter::kEdgeBandNm of either end of the grid. Cost: O(1).
-  const std::vector<std::size_t>& edge_samples() const { return edge_; }
+  /// The edge bands the automatic filter keeps free of peaks. Cost: O(1).
+  const EdgeBands& edge_bands() const { return bands_; }
 
   /// The filtered average for `target` (any positive multiple of a colour inside the grid's
   /// spectral locus; returns admissible == 0 otherwise). Thread-safe.
@@ -51,8 +47,8 @@ class PaperSolver {
   std::size_t sum_admissible(const Xyz& target, std::span<double> sum) const;
 
  private:
-  std::vector<std::size_t> active_;           // samples with a non-zero weight vector
-  std::vector<std::size_t> edge_, interior_;  // samples of the edge bands / of 400-700 nm
+  std::vector<std::size_t> active_;  // samples with a non-zero weight vector
+  EdgeBands bands_;
   std::vector<double> chroma_x_, chroma_y_, weight_sum_;
   std::size_t n_;
 };

@@ -53,6 +53,8 @@ class SmoothSolver {
   double roughness(std::span<const double> x) const;
 
   std::size_t size() const { return columns_.size(); }
+  /// The weight vectors the spectra must reproduce. Cost: O(1).
+  std::span<const Xyz> columns() const { return columns_; }
 
  private:
   std::vector<Xyz> columns_;

@@ -2,12 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
-
-#include <unistd.h>
 
 #include "core/error.h"
 
@@ -17,16 +12,20 @@ const float SpectralTable::kInfeasibleMark = 0.0f;
 
 namespace {
 
-// FNV-1a, 64 bit: the persistent cache's checksum (detects truncation and corruption).
-std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 1469598103934665603ull) {
+// FNV-1a, 64 bit: spreads the direct-solve cache's keys over its shards.
+std::uint64_t fnv1a(const void* data, std::size_t size) {
+  std::uint64_t h = 1469598103934665603ull;
   const auto* p = static_cast<const unsigned char*>(data);
   for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
   return h;
 }
 
-constexpr char kMagic[16] = "SPECTRALIZE-TBL";  // 15 chars + NUL
-constexpr std::uint32_t kFormatVersion = 1;
 constexpr std::size_t kArenaBlockNodes = 1024;
+// Node spacing: 1/128 in chromaticity for emission, 1/64 with 16 layers in S = X+Y+Z for
+// reflectance (docs/DESIGN.md §7).
+constexpr int kEmissionSteps = 128, kReflectanceSteps = 64, kLayers = 16;
+// A stored node must reproduce its own colour to float precision (docs/DESIGN.md §7).
+constexpr double kStoredNodeTolerance = 1e-5;
 
 PixelKind kind_of(const SpectrumResult& r) {
   switch (r.status) {
@@ -48,13 +47,11 @@ std::size_t SpectralTable::TargetHash::operator()(const TargetKey& k) const {
   return static_cast<std::size_t>(fnv1a(&k, sizeof k));
 }
 
-SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method,
-                             TableResolution resolution)
+SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method)
     : sp_(spectralizer), method_(method), bands_(spectralizer.settings().grid.size()) {
   const bool reflectance = sp_.settings().mode == Mode::reflectance;
-  xy_steps_ = resolution.xy_steps > 0 ? resolution.xy_steps : (reflectance ? 64 : 128);
-  s_steps_ = std::max(1, resolution.s_steps);
-  if (xy_steps_ > 4096 || s_steps_ > 1024) throw Error("table resolution too fine");
+  xy_steps_ = reflectance ? kReflectanceSteps : kEmissionSteps;
+  s_steps_ = kLayers;
   nx_ = static_cast<int>(std::ceil(kXMax * xy_steps_)) + 1;
   ny_ = static_cast<int>(std::ceil(kYMax * xy_steps_)) + 1;
   ns_ = reflectance ? s_steps_ + 1 : 1;
@@ -65,18 +62,9 @@ SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method,
   for (std::size_t i = 0; i < node_count_; ++i) nodes_[i].store(nullptr, std::memory_order_relaxed);
 }
 
-std::string SpectralTable::cache_key() const {
-  const auto& s = sp_.settings();
-  std::ostringstream key;
-  key << "spectralize " << SPECTRALIZE_VERSION << " table v" << kFormatVersion << "; grid "
-      << s.grid.to_string() << "; observer " << sp_.observer().name << "; mode "
-      << to_string(s.mode) << "; illuminant "
-      << (sp_.illuminant() ? sp_.illuminant()->name : std::string("none")) << "; filter "
-      << (s.model == Model::paper ? s.filter.to_string() : std::string("-")) << "; model "
-      << to_string(s.model) << " tau " << s.curvature_nm << "; basis "
-      << (s.mode == Mode::emission ? s.emission_basis : std::string("flat")) << "; nodes " << nx_
-      << "x" << ny_ << "x" << ns_ << " step 1/" << xy_steps_ << " S/" << s_steps_;
-  return key.str();
+std::string SpectralTable::layout() const {
+  return "nodes " + std::to_string(nx_) + "x" + std::to_string(ny_) + "x" + std::to_string(ns_) +
+         " step 1/" + std::to_string(xy_steps_) + " S/" + std::to_string(s_steps_);
 }
 
 Xyz SpectralTable::node_target(std::size_t index) const {
@@ -218,15 +206,12 @@ inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& re
     const float* __restrict p5 = p[5];
     const float* __restrict p6 = p[6];
     const float* __restrict p7 = p[7];
-    for (std::size_t i = 0; i < n; ++i) o[i] += w4 * p4[i] + w5 * p5[i] + w6 * p6[i] + w7 * p7[i];
+    // Reflectances: a blend of spectra <= 1 is <= 1 in exact arithmetic; float rounding can
+    // add an ulp (1 + 2^-23 seen on greys), so the bound is restored bit-exactly.
+    for (std::size_t i = 0; i < n; ++i)
+      o[i] = std::min(o[i] + w4 * p4[i] + w5 * p5[i] + w6 * p6[i] + w7 * p7[i], 1.0f);
   }
   res.target = t;
-}
-
-PixelResult SpectralTable::spectrum(const Xyz& xyz_d65, float* out) {
-  PixelResult res;
-  pixel(xyz_d65, out, res);
-  return res;
 }
 
 // The blend loops vectorise well: compiled for AVX2 (with FMA) and baseline x86-64, picked at
@@ -251,107 +236,37 @@ TableStats SpectralTable::stats() const {
   return s;
 }
 
-// File layout: magic[16], u32 version, u64 key length, key, u64 bands, u64 entries, then per
-// entry u64 node index, u8 feasible, bands floats if feasible; last a u64 FNV-1a checksum of
-// everything before it.
-std::string SpectralTable::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";  // no cache yet
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < sizeof kMagic + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
-    return "not a spectralize table cache";
-  std::uint64_t stored_sum;
-  std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored_sum)
-    return "checksum mismatch (corrupt or truncated)";
-  std::size_t at = sizeof kMagic;
-  auto take = [&](void* dst, std::size_t n) {
-    if (at + n > bytes.size() - 8) throw Error("truncated");
-    std::memcpy(dst, bytes.data() + at, n);
-    at += n;
-  };
-  try {
-    std::uint32_t version;
-    std::uint64_t key_len, bands, entries;
-    take(&version, 4);
-    if (version != kFormatVersion) return "cache format version " + std::to_string(version);
-    take(&key_len, 8);
-    if (key_len > 4096) return "bad key length";
-    std::string key(key_len, '\0');
-    take(key.data(), key_len);
-    if (key != cache_key()) return "made for other settings (" + key + ")";
-    take(&bands, 8);
-    take(&entries, 8);
-    if (bands != bands_ || entries > node_count_) return "inconsistent sizes";
-    for (std::uint64_t e = 0; e < entries; ++e) {
-      std::uint64_t index;
-      std::uint8_t feasible;
-      take(&index, 8);
-      take(&feasible, 1);
-      if (index >= node_count_) return "node index out of range";
-      const float* value = &kInfeasibleMark;
-      if (feasible) {
-        float* values = allocate_node();
-        take(values, bands_ * sizeof(float));
-        for (std::size_t i = 0; i < bands_; ++i)
-          if (!(values[i] >= 0) || !std::isfinite(values[i])) return "invalid node values";
-        value = values;
-      }
-      nodes_[index].store(value, std::memory_order_release);
-      stats_.nodes_loaded++;
-    }
-  } catch (const Error&) {
-    return "truncated";
-  }
-  return "";
-}
-
-std::string SpectralTable::save(const std::string& path) const {
-  std::string bytes(kMagic, sizeof kMagic);
-  auto put = [&](const void* src, std::size_t n) {
-    bytes.append(static_cast<const char*>(src), n);
-  };
-  const std::string key = cache_key();
-  const std::uint32_t version = kFormatVersion;
-  const std::uint64_t key_len = key.size(), bands = bands_;
-  put(&version, 4);
-  put(&key_len, 8);
-  put(key.data(), key.size());
-  put(&bands, 8);
-  std::uint64_t entries = 0;
-  const std::size_t entries_at = bytes.size();
-  put(&entries, 8);
+void SpectralTable::for_each_node(
+    const std::function<void(std::size_t, std::span<const float>)>& fn) const {
   for (std::size_t i = 0; i < node_count_; ++i) {
     const float* p = nodes_[i].load(std::memory_order_acquire);
     if (!p) continue;
-    const std::uint64_t index = i;
-    const std::uint8_t feasible = p != &kInfeasibleMark;
-    put(&index, 8);
-    put(&feasible, 1);
-    if (feasible) put(p, bands_ * sizeof(float));
-    ++entries;
+    fn(i, p == &kInfeasibleMark ? std::span<const float>() : std::span<const float>(p, bands_));
   }
-  std::memcpy(bytes.data() + entries_at, &entries, 8);
-  const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
-  put(&sum, 8);
-  // Unique temporary name per process and object, renamed into place: atomic for readers.
-  const std::string tmp = path + ".tmp." +
-                          std::to_string(static_cast<unsigned long>(
-                              reinterpret_cast<std::uintptr_t>(this) ^ ::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return "cannot write " + tmp;
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) {
-      std::remove(tmp.c_str());
-      return "cannot write " + tmp;
-    }
+}
+
+bool SpectralTable::adopt_node(std::size_t index, std::span<const float> values) {
+  if (index >= node_count_) return false;
+  if (values.empty()) {  // outside the gamut: its cells fall back to exact direct solves
+    nodes_[index].store(&kInfeasibleMark, std::memory_order_release);
+    stats_.nodes_loaded++;
+    return true;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return "cannot rename " + tmp + " to " + path;
+  if (values.size() != bands_) return false;
+  // The node must be the spectrum of its own colour, within the bounds: a file with the right
+  // key and checksum can still hold wrong spectra (poisoned, or a bug of another version).
+  const double upper = sp_.settings().mode == Mode::reflectance ? 1.0 : INFINITY;
+  Xyz xyz;
+  for (std::size_t i = 0; i < bands_; ++i) {
+    if (!(values[i] >= 0 && values[i] <= upper)) return false;
+    xyz = xyz + static_cast<double>(values[i]) * sp_.weights().columns()[i];
   }
-  return "";
+  if (!(relative_error(xyz, node_target(index)) <= kStoredNodeTolerance)) return false;
+  float* stored = allocate_node();
+  std::copy(values.begin(), values.end(), stored);
+  nodes_[index].store(stored, std::memory_order_release);
+  stats_.nodes_loaded++;
+  return true;
 }
 
 }  // namespace spectralize

@@ -16,8 +16,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -53,14 +55,6 @@ struct TableStats {
   std::uint64_t fallback_hits = 0;     // pixels answered from the direct-solve cache
 };
 
-/// Node spacing of a SpectralTable: 1/xy_steps in chromaticity; reflectance also s_steps
-/// layers in S = X+Y+Z from black to the reference white. Finer tables follow the direct
-/// solutions more closely (both are exact) but need more node solves.
-struct TableResolution {
-  int xy_steps = 0;  // 0: the mode's default (emission 128, reflectance 64)
-  int s_steps = 16;
-};
-
 class SpectralTable {
  public:
   enum class Method { table, exact };
@@ -68,36 +62,35 @@ class SpectralTable {
   /// A table for `spectralizer` (kept by reference; must outlive the table). `exact`: every
   /// distinct colour is solved directly (no interpolation). Cost: a pointer per node (~0.1 MB
   /// emission, ~0.4 MB reflectance); no solves until used.
-  SpectralTable(const Spectralizer& spectralizer, Method method = Method::table,
-                TableResolution resolution = TableResolution());
+  SpectralTable(const Spectralizer& spectralizer, Method method = Method::table);
 
-  /// Writes the spectrum of a pixel (CIE XYZ, D65-adapted) to out[0..N). Thread-safe.
-  /// Cost: ~N multiply-adds per node blended (4 or 8); a node solve (~40 us at 5 nm) on first
-  /// use of a node; a direct solve for pixels in cells that cross the gamut boundary.
-  PixelResult spectrum(const Xyz& xyz_d65, float* out);
-
-  /// spectrum() for n pixels: pixel i's N samples go to out + i * stride (stride >= N; 0 means
-  /// N), results has n entries. Thread-safe. Cost: as spectrum() per pixel, vectorised.
+  /// The spectra of n pixels (CIE XYZ, D65-adapted): pixel i's N samples go to
+  /// out + i * stride (stride >= N; 0 means N), results has n entries. Reflectances stay in
+  /// [0, 1] bit-exactly. Thread-safe. Cost: ~N multiply-adds per node blended (4 or 8), a node
+  /// solve (~40 us at 5 nm) on first use of a node, a direct solve for pixels in cells that
+  /// cross the gamut boundary.
   void spectra(const Xyz* xyz_d65, std::size_t n, float* out, PixelResult* results,
                std::size_t stride = 0);
 
   /// Work done so far. Cost: O(1).
   TableStats stats() const;
 
-  /// Everything the node spectra depend on, as text (grid, observer, mode, illuminant, filter,
-  /// table resolution, version): the persistent cache's key. Cost: O(1).
-  std::string cache_key() const;
-
-  /// Loads node spectra from `path` if it holds a table with this cache_key() and an intact
-  /// checksum. Returns "" on success or when the file does not exist, else why the file was
-  /// rejected (it is then ignored, never trusted). Cost: O(file size).
-  std::string load(const std::string& path);
-
-  /// Writes every computed node to `path` atomically (temporary file + rename), so concurrent
-  /// writers never leave a torn file. Returns "" or the reason it failed. Cost: O(nodes).
-  std::string save(const std::string& path) const;
-
-  /// True when nodes were computed since construction or load (worth saving). Cost: O(1).
+  /// The node grid as text ("nodes 96x111x1 step 1/128 S/16"): with the spectral settings,
+  /// what a persisted table depends on. Cost: O(1).
+  std::string layout() const;
+  /// Samples per node spectrum. Cost: O(1).
+  std::size_t bands() const { return bands_; }
+  /// Number of nodes of the grid (computed or not). Cost: O(1).
+  std::size_t node_count() const { return node_count_; }
+  /// Calls fn(index, values) for every computed node, values empty for a node outside the gamut.
+  /// Not to be run concurrently with spectra(). Cost: O(nodes).
+  void for_each_node(const std::function<void(std::size_t, std::span<const float>)>& fn) const;
+  /// Installs a node read from storage (values empty: outside the gamut) after checking that a
+  /// feasible node reproduces its own colour (relative XYZ 1e-5: float storage) within the
+  /// mode's bounds. Returns false, installing nothing, for an index out of range or a node that
+  /// fails the check. Not to be run concurrently with spectra(). Cost: O(N).
+  bool adopt_node(std::size_t index, std::span<const float> values);
+  /// True when nodes were computed since construction (worth saving). Cost: O(1).
   bool dirty() const { return stats_.nodes_computed.load() > 0; }
 
  private:

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/bounded_projection.h"
 #include "core/error.h"
 
 namespace spectralize {
@@ -78,16 +77,6 @@ Mode parse_mode(std::string_view text) {
   throw Error("unknown mode '" + std::string(text) + "' (valid: emission, reflectance)");
 }
 
-std::string_view to_string(Model model) {
-  return model == Model::paper ? "paper" : "smooth";
-}
-
-Model parse_model(std::string_view text) {
-  if (text == "paper") return Model::paper;
-  if (text == "smooth") return Model::smooth;
-  throw Error("unknown model '" + std::string(text) + "' (valid: paper, smooth)");
-}
-
 std::string parse_emission_basis(std::string_view text) {
   std::string lower(text);
   for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -126,24 +115,23 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
       basis_(basis_of(settings_, weights_)),
       basis_columns_(scaled_columns(weights_, basis_)),
       basis_white_(weights_.integrate(basis_)),
-      solver_(basis_columns_, wavelengths_of(settings_.grid)),
       locus_(ConvexGamut::spectral_locus(basis_columns_)),
       gamut_(settings_.mode == Mode::emission ? locus_
                                               : ConvexGamut::reflectance_solid(weights_.columns())),
       white_balance_{1, 1, 1} {
-  if (settings_.model == Model::smooth)
-    smooth_ = std::make_unique<SmoothSolver>(
-        basis_columns_, Roughness::of_length(settings_.curvature_nm, settings_.grid.step()));
+  const std::vector<double> wavelengths = wavelengths_of(settings_.grid);
+  ModelContext context{basis_columns_, wavelengths, settings_.grid.step(), settings_.filter,
+                       settings_.curvature_nm};
+  model_ = find_model(settings_.model).make(context);
   // Eq. 6: the white of the input (D65) becomes the white of the spectra: the reference
   // illuminant's perfect reflector, or, for emission with an illuminant basis, that
   // illuminant's light ("solved like a reflectance"; with D65 the change is ~1e-4, the
   // rounding of D65's xy in colour-space definitions).
   const bool basis = *std::min_element(basis_.begin(), basis_.end()) != 1.0 ||
                      *std::max_element(basis_.begin(), basis_.end()) != 1.0;
-  if (settings_.mode == Mode::reflectance || basis) {
-    const Xyz ref = settings_.mode == Mode::reflectance ? weights_.unit_white() : basis_white_;
-    white_balance_ = {ref.X / kWhiteD65.X, ref.Y / kWhiteD65.Y, ref.Z / kWhiteD65.Z};
-  }
+  if (settings_.mode == Mode::reflectance || basis)
+    white_balance_ = balance_from_d65(settings_.mode == Mode::reflectance ? weights_.unit_white()
+                                                                          : basis_white_);
 }
 
 Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const {
@@ -156,7 +144,12 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   auto move_toward = [&](const ConvexGamut& gamut, const Xyz& anchor) {
     if (gamut.contains(t)) return;
     const double margin = &gamut == &locus_ ? kLocusMargin : kSolidMargin;
-    double s = std::max(0.0, gamut.max_step(anchor, t) - margin);
+    // `margin` of the way short of the boundary (the fraction of the segment that the solvers
+    // were fuzzed with); for colours so far outside that the boundary lies within 2 margins of
+    // the anchor (an 8-bit 255 read as 0..1), half way to it instead, so they keep their
+    // chromaticity rather than landing on the anchor. The rules agree at the switch.
+    const double sb = gamut.max_step(anchor, t);
+    const double s = sb >= 2 * margin ? sb - margin : 0.5 * sb;
     t = anchor + s * (t - anchor);
   };
   // 1. Chromaticity outside the spectral locus: toward the white at the same luminance. The
@@ -196,14 +189,6 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
     r.message.clear();
   }
   return t;
-}
-
-std::vector<double> Spectralizer::edge_caps(std::span<const double> spectrum, double upper) const {
-  // 0.9 of the interior mean leaves room for the projection's small change of that mean.
-  std::vector<double> bounds(settings_.grid.size(), upper);
-  const double cap = 0.9 * solver_.interior_mean(spectrum);
-  for (std::size_t i : solver_.edge_samples()) bounds[i] = std::min(upper, cap);
-  return bounds;
 }
 
 Xyz Spectralizer::target_of(const Xyz& xyz_d65) const {
@@ -270,71 +255,20 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
   }
 
   const double upper = settings_.mode == Mode::reflectance ? 1.0 : INFINITY;
-  Projection proj = smooth_ ? solve_smooth(t, upper) : solve_paper(t, upper, r);
-  // Back from s to the spectrum (a no-op for reflectances and flat emission).
-  r.values = std::move(proj.values);
-  for (std::size_t i = 0; i < n; ++i) r.values[i] *= basis_[i];
+  ModelSolution solution = model_->solve(t, upper);
+  // Back from s to the spectrum (a no-op for reflectances and flat emission); the bounds hold
+  // bit-exactly (a solver's last rounding may step a hair outside).
+  r.values = std::move(solution.values);
+  for (std::size_t i = 0; i < n; ++i) r.values[i] = std::clamp(r.values[i], 0.0, upper) * basis_[i];
+  r.fallback = solution.fallback;
+  r.details = std::move(solution.details);
   r.xyz = weights_.integrate(r.values);
   r.relative_error = relative_error(r.xyz, t);
-  if (!proj.converged && !(r.relative_error <= 1e-9)) {
+  if (!solution.converged && !(r.relative_error <= 1e-9)) {
     r.message += (r.message.empty() ? "" : "; ") +
                  std::string("the exact solver did not converge (relative error reported)");
   }
   return r;
-}
-
-Projection Spectralizer::solve_paper(const Xyz& t, double upper, SpectrumResult& r) const {
-  // The paper's average of admissible partial solutions, edge-filtered.
-  PaperSpectrum paper = solver_.solve(t, settings_.filter);
-  r.admissible = paper.admissible;
-  r.dropped = paper.dropped;
-
-  // Exact to double precision: the paper's average is exact in exact arithmetic, so a tiny
-  // relative polish suffices. If that fails, or a reflectance exceeds 1, the fallback is the
-  // closest spectrum that is exact, non-negative and <= 1 (bounded projection).
-  Projection proj;
-  proj.values = paper.values;
-  proj.converged = polish_exact(basis_columns_, proj.values, t);
-  const double peak = *std::max_element(proj.values.begin(), proj.values.end());
-  r.bounded = settings_.mode == Mode::reflectance && peak > 1.0;
-  if (!proj.converged || peak > upper) proj = project_exact(basis_columns_, paper.values, t, upper);
-
-  // Filter "auto": if even the ladder's last step leaves an edge peak (saturated colours that
-  // need light near an end of the range), cap the edge bands below the interior mean by the
-  // same exact projection, and keep the result only if it is peak-free.
-  if (settings_.filter.kind() == EdgeFilter::Kind::automatic && proj.converged &&
-      !solver_.free_of_edge_peaks(proj.values)) {
-    std::vector<double> bounds = edge_caps(proj.values, upper);
-    Projection capped = project_exact(basis_columns_, proj.values, t, bounds);
-    if (capped.converged && solver_.free_of_edge_peaks(capped.values)) {
-      proj = std::move(capped);
-      r.edge_capped = true;
-    }
-  }
-  return proj;
-}
-
-Projection Spectralizer::solve_smooth(const Xyz& t, double upper) const {
-  SmoothSpectrum smooth = smooth_->solve(t, upper);
-  if (!smooth.converged) {
-    // Rare: targets hugging the gamut boundary (the mapping leaves them 1e-6 inside the locus),
-    // where the fast phase cycles and the solver's own projection to a feasible start stalls.
-    // The paper model's spectrum is within the bounds and exact (or within 1e-6 of it, for
-    // the dark purples where its projection stalls; the primal phase's first full step makes
-    // it exact): start the primal phase there.
-    SpectrumResult scratch;
-    const Projection paper = solve_paper(t, upper, scratch);
-    Xyz xyz;
-    for (std::size_t i = 0; i < paper.values.size(); ++i)
-      xyz = xyz + paper.values[i] * basis_columns_[i];
-    if (paper.converged || relative_error(xyz, t) <= 1e-6)
-      smooth = smooth_->solve(t, upper, paper.values);
-  }
-  Projection proj;
-  proj.values = std::move(smooth.values);
-  proj.converged = smooth.converged;
-  proj.iterations = smooth.iterations;
-  return proj;
 }
 
 }  // namespace spectralize

@@ -1,8 +1,8 @@
 #pragma once
 // The exact spectralizer: input XYZ (D65-adapted) -> a spectrum on a wavelength grid whose XYZ
 // under the reference integration is the (gamut-mapped) input, non-negative, and <= 1 for
-// reflectances. Ties together the paper's solver, its edge filter, the exact bounded
-// fallback and the gamut mapping.
+// reflectances. Does what every model shares (white balance, gamut mapping, emission basis)
+// around the chosen spectrum model (docs/DESIGN.md §6).
 
 #include <cstddef>
 #include <memory>
@@ -11,13 +11,11 @@
 #include <string_view>
 #include <vector>
 
-#include "core/bounded_projection.h"
 #include "core/colorimetry.h"
 #include "core/edge_filter.h"
 #include "core/gamut.h"
-#include "core/paper_solver.h"
 #include "core/sample_weights.h"
-#include "core/smooth_solver.h"
+#include "core/spectrum_model.h"
 #include "core/wavelength_grid.h"
 #include "core/xyz.h"
 
@@ -29,15 +27,6 @@ enum class Mode { emission, reflectance };
 std::string_view to_string(Mode mode);
 /// Parses "emission" | "reflectance"; throws Error. Cost: O(1).
 Mode parse_mode(std::string_view text);
-
-/// How a spectrum is chosen among the exact ones: the paper's average of admissible partial
-/// solutions, or the smoothest exact spectrum within the bounds (least roughness, see README).
-enum class Model { paper, smooth };
-
-/// "paper" / "smooth". Cost: O(1).
-std::string_view to_string(Model model);
-/// Parses "paper" | "smooth"; throws Error. Cost: O(1).
-Model parse_model(std::string_view text);
 
 /// The smooth model's default curvature length tau (chosen by measurement; see README).
 inline constexpr double kDefaultCurvatureNm = 50;
@@ -59,6 +48,18 @@ std::string_view to_string(Status status);
 /// The white point of every space in the shipped OCIO config: D65, Y = 1.
 inline constexpr Xyz kWhiteD65{0.3127 / 0.3290, 1.0, 0.3583 / 0.3290};
 
+/// The diagonal white balance that takes the D65 white to `white` (docs/DESIGN.md §3: XYZ
+/// scaling, not a Bradford adaptation); its inverse is balance_from_d65(w) with the roles
+/// swapped, i.e. hadamard(xyz, d65_from(w)). Cost: O(1).
+inline Xyz balance_from_d65(const Xyz& white) {
+  return {white.X / kWhiteD65.X, white.Y / kWhiteD65.Y, white.Z / kWhiteD65.Z};
+}
+/// The diagonal that takes `white` back to the D65 white (the inverse of balance_from_d65).
+/// Cost: O(1).
+inline Xyz balance_to_d65(const Xyz& white) {
+  return {kWhiteD65.X / white.X, kWhiteD65.Y / white.Y, kWhiteD65.Z / white.Z};
+}
+
 /// The edge filter used when none is given (chosen by measurement; see README "Edge filter").
 EdgeFilter default_edge_filter();
 
@@ -68,7 +69,7 @@ struct SpectralizerSettings {
   Mode mode = Mode::emission;
   std::string illuminant = "D65";             // reference illuminant of reflectances
   EdgeFilter filter = default_edge_filter();  // paper model only
-  Model model = Model::paper;
+  std::string model{default_model_name()};    // a registered model (core/spectrum_model.h)
   // Emission only: "flat" (phi >= 0 free per sample) or an illuminant name, e.g. "D65": the
   // spectrum is E(lambda) s(lambda) with s >= 0, and the input white (D65) is balanced to E's
   // colour like a reflectance's (eq. 6), so white light becomes E itself.
@@ -80,20 +81,26 @@ struct SpectralizerSettings {
 struct SpectrumResult {
   std::vector<double> values;  // one per grid sample
   Status status = Status::ok;
-  Xyz input;                   // the XYZ given (D65-adapted, input units)
-  Xyz target;                  // what the spectrum reproduces: input (emission) or input
-                               // white-balanced to the reference illuminant (reflectance),
-                               // after gamut mapping
-  Xyz xyz;                     // W . values: the reference integration of the spectrum
-  double relative_error = 0;   // max|xyz - target| / max|target|
-  std::size_t admissible = 0;  // L, admissible partial solutions
-  std::size_t dropped = 0;     // K, partial solutions dropped by the edge filter
-  bool bounded = false;        // reflectance: the rho <= 1 fallback changed the spectrum
-  bool edge_capped = false;    // filter "auto": edge peaks the ladder left were capped exactly
-  double gamut_distance = 0;   // chromaticity (xy) distance the mapping moved the colour
-  bool outside_locus = false;  // out_of_gamut because outside the spectral locus (else, for
-                               // reflectances, outside the reflectance solid)
-  std::string message;         // why the status is not ok, for people
+  Xyz input;                         // the XYZ given (D65-adapted, input units)
+  Xyz target;                        // what the spectrum reproduces: input (emission) or input
+                                     // white-balanced to the reference illuminant (reflectance),
+                                     // after gamut mapping
+  Xyz xyz;                           // W . values: the reference integration of the spectrum
+  double relative_error = 0;         // max|xyz - target| / max|target|
+  bool fallback = false;             // the model's stated fallback produced (part of) the spectrum
+  std::vector<ModelDetail> details;  // the model's own diagnostics (e.g. paper: L and K)
+  double gamut_distance = 0;         // chromaticity (xy) distance the mapping moved the colour
+  bool outside_locus = false;        // out_of_gamut because outside the spectral locus (else, for
+                                     // reflectances, outside the reflectance solid)
+  std::string message;               // why the status is not ok, for people
+
+  /// The model's detail `name` (e.g. "admissible"), 0 when the model does not report it.
+  /// Cost: O(details).
+  double detail(std::string_view name) const {
+    for (const ModelDetail& d : details)
+      if (d.name == name) return d.value;
+    return 0;
+  }
 };
 
 class Spectralizer {
@@ -115,10 +122,11 @@ class Spectralizer {
   Xyz target_of(const Xyz& xyz_d65) const;
   /// True when the target is inside the gamut of the mode. Cost: O(facets).
   bool in_gamut(const Xyz& target) const { return gamut_.contains(target); }
-  /// True when the target is inside the spectral locus of the grid. Cost: O(hull facets).
-  bool in_locus(const Xyz& target) const { return locus_.contains(target); }
   /// What (1, 1, 1) of a D65 space becomes as a target: W_ref (reflectance) or D65. Cost: O(1).
   Xyz reference_white() const { return hadamard(kWhiteD65, white_balance_); }
+  /// The diagonal from a spectrum's XYZ back to the input's D65 terms (the inverse of the
+  /// white balance; 1 for flat emission). Cost: O(1).
+  Xyz unbalance() const { return balance_to_d65(reference_white()); }
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }
@@ -133,14 +141,6 @@ class Spectralizer {
   /// outside the locus toward white at constant Y; reflectance with Y > 1 toward black (keeps the
   /// chromaticity); still outside the solid toward white at constant Y. Cost: O(facets).
   Xyz map_into_gamut(const Xyz& target, SpectrumResult& r) const;
-  /// The paper model's spectrum s of a target inside the gamut (filter, polish, bounds, edge
-  /// caps); records L, K and flags in `r`. Cost: ~O(N^2 + L).
-  Projection solve_paper(const Xyz& t, double upper, SpectrumResult& r) const;
-  /// The smooth model's spectrum s of a target inside the gamut. Cost: ~10 us at 5 nm.
-  Projection solve_smooth(const Xyz& t, double upper) const;
-  /// Upper bounds that cap the edge bands at 0.9 of the interior mean. Cost: O(N).
-  std::vector<double> edge_caps(std::span<const double> spectrum, double upper) const;
-
   SpectralizerSettings settings_;
   const Observer* observer_;
   std::unique_ptr<Illuminant> illuminant_;
@@ -150,8 +150,7 @@ class Spectralizer {
   std::vector<double> basis_;
   std::vector<Xyz> basis_columns_;
   Xyz basis_white_;  // W . basis: the colour of s == 1
-  PaperSolver solver_;
-  std::unique_ptr<SmoothSolver> smooth_;  // model smooth only
+  std::unique_ptr<SpectrumModel> model_;
   ConvexGamut locus_;  // the cone of the weights: chromaticities any spectrum can have
   ConvexGamut gamut_;  // emission: the locus; reflectance: the solid
   Xyz white_balance_;  // W_ref / W_D65 per component (reflectance), else (1, 1, 1)

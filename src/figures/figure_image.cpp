@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "io/image_file_output.h"
 
 namespace fs = std::filesystem;
 
@@ -20,17 +21,6 @@ namespace {
 
 using OIIO::ImageBufAlgo::TextAlignX;
 
-// The first DejaVu Sans of the usual font folders, or "" (then the images go without labels).
-std::string find_font() {
-  for (const char* path :
-       {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-        "/usr/share/fonts/TTF/DejaVuSans.ttf"}) {
-    std::error_code ec;
-    if (fs::exists(path, ec)) return path;
-  }
-  return "";
-}
-
 void draw_text(OIIO::ImageBuf& buf, int x, int y, const std::string& text, int size,
                const std::string& font, float grey, TextAlignX align = TextAlignX::Left) {
   if (font.empty() || text.empty()) return;
@@ -38,23 +28,10 @@ void draw_text(OIIO::ImageBuf& buf, int x, int y, const std::string& text, int s
   OIIO::ImageBufAlgo::render_text(buf, x, y, text, size, font, colour, align);
 }
 
-// Writes an 8-bit PNG through a temporary file beside `path` (same extension for OIIO), then
-// renames it, so a failed run never leaves a half-written figure.
+// Writes an 8-bit PNG through io/safe_output.h, so a failed run never leaves a half-written
+// figure.
 void write_png(OIIO::ImageBuf& buf, const std::string& path) {
-  const fs::path target(path);
-  const fs::path temp = target.parent_path() / fmt::format(".{}.tmp{}", target.stem().string(),
-                                                           target.extension().string());
-  if (!buf.write(temp.string(), OIIO::TypeDesc::UINT8)) {
-    std::error_code ec;
-    fs::remove(temp, ec);
-    throw Error("cannot write '" + path + "': " + buf.geterror());
-  }
-  std::error_code ec;
-  fs::rename(temp, target, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw Error("cannot write '" + path + "': " + ec.message());
-  }
+  write_image_file(buf, path, OIIO::TypeDesc::UINT8);
 }
 
 // A dark-to-bright ramp (black, violet, red, orange, pale yellow) in display sRGB; t in [0, 1].

@@ -111,7 +111,7 @@ void plot_spectrum(const Stage& s, const std::string& file, const std::string& t
                   light ? "emission" : "reflectance under " + settings.illuminant,
                   settings.grid.to_string(), settings.observer, settings.filter.to_string()),
       fmt::format("relative XYZ error {:.2g}, L = {}, K = {}", paper.relative_error,
-                  paper.admissible, paper.dropped)};
+                  paper.detail("admissible"), paper.detail("dropped"))};
   plot.y_label = light ? "relative spectral radiance" : "reflectance";
   plot.y_top_at_least = light ? 0 : 1;
   plot.swatch_labels = {"input"};
@@ -126,7 +126,7 @@ void plot_spectrum(const Stage& s, const std::string& file, const std::string& t
                          {swatch(s.spaces, input, k)}});
   try {
     SpectralizerSettings smooth = settings;
-    smooth.model = Model::smooth;
+    smooth.model = "smooth";
     const SpectrumResult r = Spectralizer(smooth).spectralize(input);
     if (r.status == Status::ok)
       plot.curves.push_back(

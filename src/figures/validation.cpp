@@ -6,9 +6,9 @@
 #include <memory>
 
 #include "core/colorimetry.h"
-#include "core/colour_difference.h"
 #include "core/error.h"
 #include "core/sample_weights.h"
+#include "figures/colour_difference.h"
 
 namespace spectralize::figures {
 
@@ -234,11 +234,11 @@ ValidationSummary summarise(const std::vector<PatchResult>& patches) {
 }  // namespace
 
 std::vector<ValidationConfig> validation_configs() {
-  return {{"paper, filter " + default_edge_filter().to_string() + " (default)", Model::paper,
+  return {{"paper, filter " + default_edge_filter().to_string() + " (default)", "paper",
            default_edge_filter()},
-          {"paper, filter 0.5", Model::paper, EdgeFilter::parse("0.5")},
-          {"paper, filter 0.9", Model::paper, EdgeFilter::parse("0.9")},
-          {"smooth", Model::smooth, default_edge_filter()}};
+          {"paper, filter 0.5", "paper", EdgeFilter::parse("0.5")},
+          {"paper, filter 0.9", "paper", EdgeFilter::parse("0.9")},
+          {"smooth", "smooth", default_edge_filter()}};
 }
 
 std::vector<std::string> validation_spaces() {

@@ -20,7 +20,7 @@ namespace spectralize::figures {
 /// One way of spectralizing: a row of the summary tables.
 struct ValidationConfig {
   std::string name;  // e.g. "paper, filter auto (default)"
-  Model model = Model::paper;
+  std::string model = "paper";
   EdgeFilter filter;
 };
 

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/spectralizer.h"
+#include "io/safe_output.h"
 
 namespace fs = std::filesystem;
 
@@ -59,20 +60,9 @@ constexpr const char* kDefinitions[][2] = {
 };
 
 void write_file(const fs::path& path, const std::string& text) {
-  const fs::path temp = path.parent_path() / fmt::format(".{}.tmp", path.filename().string());
-  {
-    std::ofstream f(temp, std::ios::binary);
-    f << text;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(temp, ec);
-      throw Error("cannot write '" + path.string() + "': write failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) throw Error("cannot write '" + path.string() + "': " + ec.message());
+  AtomicOutput file(path.string(), {});
+  file.write(text);
+  file.commit();
 }
 
 }  // namespace
@@ -89,8 +79,8 @@ std::string validation_json(const Validation& results) {
   for (const ConfigResult& c : results.configs) {
     nlohmann::json j;
     j["name"] = c.config.name;
-    j["model"] = std::string(to_string(c.config.model));
-    j["filter"] = c.config.model == Model::paper ? c.config.filter.to_string() : "";
+    j["model"] = c.config.model;
+    j["filter"] = find_model(c.config.model).uses("filter") ? c.config.filter.to_string() : "";
     j["space"] = c.space;
     j["available"] = c.available;
     if (!c.available) j["error"] = c.error;

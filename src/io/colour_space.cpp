@@ -2,10 +2,12 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
 #include "core/error.h"
+#include "io/safe_output.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -61,10 +63,12 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
   try {
     if (!explicit_path.empty()) {
       where = explicit_path;
+      check_readable_file(explicit_path, "OCIO config");
       config = OCIO::Config::CreateFromFile(explicit_path.c_str());
       cs.origin_ = explicit_path;
     } else if (const char* env = std::getenv("OCIO"); env && *env) {
       where = std::string("$OCIO=") + env;
+      check_readable_file(env, "$OCIO");
       config = OCIO::Config::CreateFromFile(env);
       cs.origin_ = where;
     } else {
@@ -75,7 +79,10 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
     }
     config->validate();
   } catch (const OCIO::Exception& e) {
-    throw Error("OCIO config '" + where + "': " + e.what());
+    throw Error("OCIO config '" + where + "': " + clip(e.what(), 300));
+  } catch (const Error& e) {  // not a readable regular file
+    const std::string why = e.what();
+    throw Error("OCIO config '" + where + "': " + why.substr(why.find("): ") + 3));
   }
   cs.config_ = std::make_shared<const ConfigPtr>(config);
   return cs;
@@ -89,6 +96,16 @@ std::string ColourSpaces::resolve(std::string_view name) const {
   for (const auto& d : describe()) valid += "\n  " + d;
   throw Error("unknown colour space '" + std::string(name) + "' in OCIO config '" + origin_ +
               "'. Valid names (aliases in brackets):" + valid);
+}
+
+std::vector<std::string> ColourSpaces::names() const {
+  const ConfigPtr& config = config_of(config_);
+  std::vector<std::string> out;
+  const int n = config->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL);
+  for (int i = 0; i < n; ++i)
+    out.emplace_back(config->getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL,
+                                                      OCIO::COLORSPACE_ALL, i));
+  return out;
 }
 
 std::vector<std::string> ColourSpaces::describe() const {
@@ -132,6 +149,138 @@ ColourTransform ColourSpaces::transform(std::string_view space, bool to_xyz) con
     throw Error("OCIO cannot convert between '" + t.source_ + "' and CIE-XYZ-D65: " + e.what());
   }
   return t;
+}
+
+std::string ColourSpaces::role(std::string_view role) const {
+  const ConfigPtr& config = config_of(config_);
+  const std::string r(role);
+  if (!config->hasRole(r.c_str())) return "";
+  auto cs = config->getColorSpace(r.c_str());
+  return cs ? cs->getName() : "";
+}
+
+std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& path) const {
+  const ConfigPtr& config = config_of(config_);
+  if (config->filepathOnlyMatchesDefaultRule(path.c_str())) return {"", ""};
+  size_t index = 0;
+  const char* space = config->getColorSpaceFromFilepath(path.c_str(), index);
+  if (!space || !*space) return {"", ""};
+  auto cs = config->getColorSpace(space);
+  return {cs ? cs->getName() : space, config->getFileRules()->getName(index)};
+}
+
+bool ColourSpaces::is_data(std::string_view space) const {
+  auto cs = config_of(config_)->getColorSpace(std::string(space).c_str());
+  return cs && cs->isData();
+}
+
+bool ColourSpaces::is_linear(std::string_view space) const {
+  if (is_data(space)) return false;
+  const ColourTransform t = to_xyz(space);
+  // Linear maps scale: f(k c) = k f(c), for two scales on a colour of distinct components.
+  const Xyz a = t(0.8, 0.5, 0.2), b = t(0.4, 0.25, 0.1), c = t(0.08, 0.05, 0.02), o = t(0, 0, 0);
+  auto close = [](const Xyz& x, const Xyz& y) {
+    return (x - y).max_abs() <= 1e-5 * std::max(1e-3, y.max_abs());
+  };
+  return o.max_abs() <= 1e-7 && close(b, 0.5 * a) && close(c, 0.1 * a);
+}
+
+namespace {
+
+// Known primaries and whites (red, green, blue, white as CIE xy): the standard's own (what an
+// EXR chromaticities attribute says) and as a D65-referred config sees them after its Bradford
+// adaptation to D65 (measured through OCIO's built-in ACES transforms).
+struct KnownSpace {
+  const char* linear;   // interop ID of the scene-linear encoding
+  const char* encoded;  // interop ID of the sRGB-curve encoding, or ""
+  std::array<float, 8> native, adapted;
+};
+constexpr float kD65x = 0.3127f, kD65y = 0.3290f;
+const KnownSpace kKnown[] = {
+    {"lin_rec709_scene",
+     "srgb_rec709_scene",
+     {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y},
+     {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y}},
+    {"lin_rec2020_scene",
+     "",
+     {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y},
+     {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y}},
+    {"lin_p3d65_scene",
+     "srgb_p3d65_scene",
+     {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y},
+     {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y}},
+    {"lin_adobergb_scene",
+     "",
+     {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y},
+     {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y}},
+    {"lin_ap1_scene",
+     "",
+     {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f},
+     {0.713196f, 0.292689f, 0.159509f, 0.838789f, 0.128673f, 0.043896f, kD65x, kD65y}},
+    {"lin_ap0_scene",
+     "",
+     {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f},
+     {0.734855f, 0.264225f, -0.006171f, 1.011315f, 0.015968f, -0.064236f, kD65x, kD65y}},
+    {"lin_ciexyzd65_scene",
+     "",
+     {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f},
+     {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f}},
+};
+
+bool same_xy(const std::array<float, 8>& a, const float* b) {
+  for (int i = 0; i < 8; ++i)
+    if (std::abs(a[i] - b[i]) > 2e-3f) return false;
+  return true;
+}
+
+}  // namespace
+
+std::string interop_id_of_chromaticities(const float* xy) {
+  for (const KnownSpace& k : kKnown)
+    if (same_xy(k.native, xy)) return k.linear;
+  return "";
+}
+
+std::optional<std::array<float, 8>> ColourSpaces::derived_chromaticities(
+    std::string_view space) const {
+  if (is_data(space)) return std::nullopt;
+  const ColourTransform t = to_xyz(space);
+  // The primaries are the XYZ of the unit RGB vectors; 0 and 1 survive any transfer function.
+  const Xyz p[4] = {t(1, 0, 0), t(0, 1, 0), t(0, 0, 1), t(1, 1, 1)};
+  std::array<float, 8> xy{};
+  for (int i = 0; i < 4; ++i) {
+    const double sum = p[i].sum();
+    if (!(std::abs(sum) > 1e-9) || !p[i].finite()) return std::nullopt;
+    xy[2 * i] = static_cast<float>(p[i].X / sum);
+    xy[2 * i + 1] = static_cast<float>(p[i].Y / sum);
+  }
+  return xy;
+}
+
+std::optional<std::array<float, 8>> ColourSpaces::chromaticities(std::string_view space) const {
+  // A known space is tagged with its standard's own primaries and white, as files expect
+  // (ACEScg: the ACES white, not the D65 the config adapts it to).
+  const auto derived = derived_chromaticities(space);
+  if (!derived) return std::nullopt;
+  for (const KnownSpace& k : kKnown)
+    if (same_xy(k.adapted, derived->data())) return k.native;
+  return derived;
+}
+
+std::string ColourSpaces::interop_id(std::string_view space) const {
+  if (is_data(space)) return "data";
+  const auto xy = derived_chromaticities(space);
+  if (!xy) return "";
+  const bool linear = is_linear(space);
+  for (const KnownSpace& k : kKnown) {
+    if (!same_xy(k.adapted, xy->data())) continue;
+    if (linear) return k.linear;
+    // An encoded space: the sRGB curve is recognised by its value at 0.5 (0.214).
+    const Xyz half = to_xyz(space)(0.5, 0.5, 0.5), one = to_xyz(space)(1, 1, 1);
+    if (*k.encoded && std::abs(half.Y / one.Y - 0.21404) < 1e-3) return k.encoded;
+    return "";
+  }
+  return "";
 }
 
 }  // namespace spectralize

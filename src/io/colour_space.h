@@ -2,10 +2,13 @@
 // Colour spaces by name, converted to CIE XYZ (D65) through an OpenColorIO config. The OCIO
 // headers stay in colour_space.cpp; callers see only names and float RGB.
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/xyz.h"
@@ -31,15 +34,38 @@ class ColourTransform {
 class ColourSpaces {
  public:
   /// Loads the config: `explicit_path` if non-empty, else $OCIO if set, else the config shipped
-  /// with spectralize (embedded). Throws Error naming the file and OCIO's reason. Cost: config
-  /// parse, ~ms.
+  /// with spectralize (embedded). The file must be a regular file (a FIFO would block). Throws
+  /// Error naming the file and OCIO's reason. Cost: config parse, ~ms.
   static ColourSpaces load(const std::string& explicit_path = "");
 
   /// Where the config came from, for reports: "shipped", "$OCIO (path)" or the path. Cost: O(1).
   const std::string& origin() const { return origin_; }
+  /// True for the config shipped with spectralize. Cost: O(1).
+  bool shipped() const { return origin_ == "shipped"; }
+  /// The canonical name of the space a role names, or "" when the config has no such role.
+  /// Cost: O(1).
+  std::string role(std::string_view role) const;
+  /// The space the config's file rules give `path` and the rule's name, or {"", ""} when only
+  /// the default rule matches. Cost: O(rules).
+  std::pair<std::string, std::string> file_rule(const std::string& path) const;
+  /// True when the config marks the space as data (not colour). Cost: O(1).
+  bool is_data(std::string_view space) const;
+  /// True when the space's conversion to XYZ is linear (tested on colours: OCIO 2.1 cannot tell).
+  /// Cost: an OCIO processor.
+  bool is_linear(std::string_view space) const;
+  /// The CIE xy of the space's red, green and blue primaries and of its white (what an OpenEXR
+  /// `chromaticities` attribute holds): the standard's own for a known space (ACEScg: the ACES
+  /// white), else derived through OCIO (in the config's reference white); nullopt for data.
+  /// Cost: an OCIO processor.
+  std::optional<std::array<float, 8>> chromaticities(std::string_view space) const;
+  /// The colour interop ID (e.g. "lin_ap1_scene") of a space whose primaries, white and
+  /// encoding match a known one, or "". Cost: an OCIO processor.
+  std::string interop_id(std::string_view space) const;
   /// The canonical name of a colour space given by name, alias or role (case-insensitive);
   /// throws Error listing the valid names. Cost: O(spaces).
   std::string resolve(std::string_view name) const;
+  /// Every colour-space name (canonical). Cost: O(spaces).
+  std::vector<std::string> names() const;
   /// Every colour-space name with its aliases, "Name (alias1, alias2)". Cost: O(spaces).
   std::vector<std::string> describe() const;
   /// A converter from `space` to CIE-XYZ-D65; throws Error for unknown spaces or configs without
@@ -50,11 +76,17 @@ class ColourSpaces {
 
  private:
   ColourTransform transform(std::string_view space, bool to_xyz) const;
+  /// The primaries and white as XYZ-D65 sees them (after the config's adaptation).
+  std::optional<std::array<float, 8>> derived_chromaticities(std::string_view space) const;
   std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
   std::string origin_;
 };
 
-/// Name of the shipped default input space. Cost: O(1).
+/// The interop ID of a file's chromaticities (red, green, blue, white xy) when they are a known
+/// standard's (Rec.709, Rec.2020, P3-D65, Adobe RGB, AP1, AP0, XYZ), else "". Cost: O(1).
+std::string interop_id_of_chromaticities(const float* xy);
+
+/// Name of the shipped default linear space (scene_linear of the shipped config). Cost: O(1).
 inline constexpr std::string_view kDefaultColourSpace = "Linear Rec.709 (sRGB)";
 
 }  // namespace spectralize

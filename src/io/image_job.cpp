@@ -2,21 +2,22 @@
 
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/parallel.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <functional>
 #include <future>
+#include <mutex>
+#include <numeric>
 #include <vector>
 
 #include "core/error.h"
-#include "io/output_spec.h"
+#include "io/colour_space.h"
+#include "io/image_conversion.h"
+#include "io/image_input.h"
+#include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
-#include "io/spectral_converter.h"
-
-namespace fs = std::filesystem;
+#include "io/safe_output.h"
 
 namespace spectralize {
 
@@ -26,38 +27,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// Removes the temporary output unless the job committed it.
-struct TemporaryFile {
-  std::string path;
-  bool keep = false;
-  ~TemporaryFile() {
-    if (!keep && !path.empty()) {
-      std::error_code ec;
-      fs::remove(path, ec);
-    }
-  }
-};
-
-// Refuses what must not happen (missing input, missing output folder, output equal to the
-// input) and opens the input.
-std::unique_ptr<OIIO::ImageInput> open_input(const std::string& input, const std::string& output) {
-  std::error_code ec;
-  if (!fs::exists(input, ec)) throw Error("'" + input + "': no such file");
-  if (fs::is_directory(input, ec)) throw Error("'" + input + "': is a directory");
-  const fs::path out_path(output);
-  const fs::path out_dir = out_path.has_parent_path() ? out_path.parent_path() : fs::path(".");
-  if (!fs::is_directory(out_dir, ec))
-    throw Error("'" + output + "': the folder '" + out_dir.string() + "' does not exist");
-  if (fs::exists(out_path, ec) && fs::equivalent(out_path, input, ec))
-    throw Error("'" + output + "': is the input file; refusing to overwrite it");
-  auto in = OIIO::ImageInput::open(input);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    throw Error("'" + input + "': cannot read: " + (why.empty() ? "unknown format" : why));
-  }
-  return in;
 }
 
 // --threads bounds our loops and OIIO's own pool (OpenEXR's compression threads included).
@@ -70,33 +39,32 @@ void limit_threads(int threads) {
 
 using RowsFn = std::function<void(const float* in, std::size_t pixels, float* out)>;
 
-// Streams the input to an OpenEXR of `ospec` in strips: read, convert, write (the write of one
-// strip overlapping the conversion of the next), through a temporary file beside the output,
-// renamed when complete. Memory is O(strip), not O(image). Returns (convert, write) seconds.
-std::pair<double, double> stream(OIIO::ImageInput& in, const std::string& input,
-                                 const std::string& output, const OIIO::ImageSpec& ospec, int tile,
-                                 const RowsFn& convert, const ProgressFn& progress) {
+// Streams the input to an image of `ospec` in strips: read, convert, write (the write of one
+// strip overlapping the conversion of the next), through `out`'s checked temporary file.
+// Memory is O(strip), not O(image). Returns (convert, write) seconds.
+std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std::string& format,
+                                 const OIIO::ImageSpec& ospec, const RowsFn& convert,
+                                 const ProgressFn& progress) {
   const OIIO::ImageSpec& spec = in.spec();
   const int nch = spec.nchannels, out_nch = ospec.nchannels;
-  const fs::path out_path(output);
-  const fs::path out_dir = out_path.has_parent_path() ? out_path.parent_path() : fs::path(".");
-  TemporaryFile tmp;
-  tmp.path = (out_dir / ("." + out_path.filename().string() + ".spectralize-" +
-                         std::to_string(::getpid()) + ".tmp.exr"))
-                 .string();
-  auto out = OIIO::ImageOutput::create("openexr");
-  if (!out) throw Error("OpenImageIO has no OpenEXR writer: " + OIIO::geterror());
-  if (!out->open(tmp.path, ospec))
-    throw Error("'" + output + "': cannot write: " + out->geterror());
+  const std::string& output = file.destination();
+  auto writer = OIIO::ImageOutput::create(format);
+  if (!writer) throw Error("OpenImageIO has no " + format + " writer: " + OIIO::geterror());
+  // Every byte goes through the checked proxy, so a full disk or a file-size limit is an
+  // error here, not a truncated file at the destination.
+  if (!writer->set_ioproxy(file.proxy()) || !writer->open(output, ospec))
+    throw Error("'" + output + "': cannot write: " + writer->geterror());
 
-  // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows) or tiles, so that
-  // OpenEXR compresses many blocks of a strip in parallel while we compute the next strip.
-  // Very wide scanline images go a row at a time (OpenEXR gathers its blocks itself), so
-  // memory stays bounded whatever the width.
+  // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows), output tiles and
+  // input tiles, so that OpenEXR compresses many blocks of a strip in parallel while we
+  // compute the next one. Very wide images go a block at a time, so memory stays bounded.
   const std::size_t width = static_cast<std::size_t>(spec.width);
   const std::size_t bytes_per_row = width * static_cast<std::size_t>(out_nch) * sizeof(float);
   const std::size_t budget = 24u << 20;
-  const int unit = tile > 0 ? tile : (bytes_per_row * 16 > budget ? 1 : 16);
+  const int out_unit = ospec.tile_height > 0 ? ospec.tile_height : 16;
+  int unit = std::lcm(out_unit, std::max(1, in.tile_height()));
+  if (unit > 512) unit = std::max(out_unit, in.tile_height());
+  if (ospec.tile_height == 0 && bytes_per_row * unit > budget) unit = std::max(1, in.tile_height());
   const int strip = unit * static_cast<int>(std::clamp<std::size_t>(budget / (bytes_per_row * unit),
                                                                     1, std::max(1, 512 / unit)));
   std::vector<float> inbuf(width * strip * nch);
@@ -104,15 +72,13 @@ std::pair<double, double> stream(OIIO::ImageInput& in, const std::string& input,
                                    std::vector<float>(width * strip * out_nch)};
   std::future<void> writing;  // the previous strip's write, overlapping this strip's work
   double t_convert = 0, t_write = 0;
+  const bool tiled = ospec.tile_width > 0;
   for (int y0 = 0, k = 0; y0 < spec.height; y0 += strip, ++k) {
     const int y1 = std::min(spec.height, y0 + strip);
     std::vector<float>& outbuf = outbufs[k % 2];
     const std::size_t n = width * static_cast<std::size_t>(y1 - y0);
     auto t0 = Clock::now();
-    if (!in.read_scanlines(0, 0, spec.y + y0, spec.y + y1, 0, 0, nch, OIIO::TypeFloat,
-                           inbuf.data()))
-      throw Error("'" + input + "': cannot read rows " + std::to_string(y0) + ".." +
-                  std::to_string(y1 - 1) + ": " + in.geterror());
+    in.read_rows(y0, y1, inbuf.data());
     convert(inbuf.data(), n, outbuf.data());
     auto t1 = Clock::now();
     t_convert += std::chrono::duration<double>(t1 - t0).count();
@@ -121,94 +87,135 @@ std::pair<double, double> stream(OIIO::ImageInput& in, const std::string& input,
     t_write += seconds_since(t1);
     writing = std::async(std::launch::async, [&, y0, y1, data = outbuf.data()] {
       const bool ok =
-          tile > 0 ? out->write_tiles(spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0, 1,
+          tiled ? writer->write_tiles(spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0, 1,
                                       OIIO::TypeFloat, data)
-                   : out->write_scanlines(spec.y + y0, spec.y + y1, 0, OIIO::TypeFloat, data);
-      if (!ok) throw Error("'" + output + "': write failed: " + out->geterror());
+                : writer->write_scanlines(spec.y + y0, spec.y + y1, 0, OIIO::TypeFloat, data);
+      if (!ok) throw Error("'" + output + "': write failed: " + writer->geterror());
+      file.check();
     });
     if (progress) progress(width * y1, width * spec.height);
   }
   auto t_close = Clock::now();
   if (writing.valid()) writing.get();
-  if (!out->close()) throw Error("'" + output + "': write failed: " + out->geterror());
-  in.close();
-  std::error_code ec;
-  fs::rename(tmp.path, output, ec);
-  if (ec)
-    throw Error("'" + output + "': cannot move the finished file into place: " + ec.message());
-  tmp.keep = true;
+  if (!writer->close()) throw Error("'" + output + "': write failed: " + writer->geterror());
+  // The finished file must open as what was meant (its header and chunk table are written last).
+  file.check();
+  auto back = OIIO::ImageInput::create(format);
+  OIIO::ImageSpec back_spec;
+  if (!back || !back->open(file.path(), back_spec) || back_spec.width != ospec.width ||
+      back_spec.height != ospec.height || back_spec.nchannels != ospec.nchannels)
+    throw Error("'" + output + "': the written file does not read back: " +
+                (back ? back->geterror() : OIIO::geterror()));
+  back->close();
+  file.commit();
   t_write += seconds_since(t_close);
   return {t_convert, t_write};
 }
 
 }  // namespace
 
-ImageReport run_image_job(const ImageJobSettings& job, const ProgressFn& progress,
-                          const LogFn& log) {
+ImageReport run_image_job(const std::string& input, const std::string& output,
+                          const Settings& settings, const ProgressFn& progress, const LogFn& log) {
+  install_cleanup_handlers();
   const auto t_start = Clock::now();
-  ImageReport rep;
-  rep.input = job.input;
-  rep.output = job.output;
-  auto in = open_input(job.input, job.output);
-  limit_threads(job.threads);
-  SpectralConverter converter(job, in->spec(), in->format_name(), log, rep);
-  rep.seconds_setup = seconds_since(t_start);
+  const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
+  ImageReader reader(input, out_channels, /*straight_alpha=*/true);
+  // The destination is checked (and its temporary file created) before any work.
+  AtomicOutput file(output, std::span<const std::string>(&input, 1));
+  limit_threads(settings.threads);
+  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
+                             settings, log);
+  if (reader.mip_levels() > 1 || reader.subimages() > 1)
+    log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
+               std::to_string(reader.subimages()) +
+               " subimages: level 0 of the first subimage is converted");
+  const double t_setup = seconds_since(t_start);
   auto [t_convert, t_write] = stream(
-      *in, job.input, job.output, converter.output_spec(), job.tile,
-      [&](const float* src, std::size_t n, float* dst) { converter.convert(src, n, dst); },
+      reader, file, "openexr", conversion.output_spec(),
+      [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
       progress);
-  converter.finish(rep, log);
-  rep.pixels = static_cast<std::uint64_t>(rep.width) * rep.height;
+  ImageReport rep = conversion.finish(log);
+  rep.output = output;
+  rep.mip_levels = reader.mip_levels();
+  rep.subimages = reader.subimages();
+  rep.tiled_input = reader.tile_height() > 0;
+  rep.seconds_setup = t_setup;
   rep.seconds_convert = t_convert;
-  rep.seconds_write_close = t_write;
+  rep.seconds_write = t_write;
   rep.seconds_total = seconds_since(t_start);
   return rep;
 }
 
-ToRgbReport run_to_rgb_job(const ToRgbSettings& job, const ProgressFn& progress, const LogFn& log) {
+ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
+                           const Settings& settings, const ProgressFn& progress, const LogFn& log) {
+  install_cleanup_handlers();
   const auto t_start = Clock::now();
   ToRgbReport rep;
-  rep.input = job.input;
-  rep.output = job.output;
-  auto in = open_input(job.input, job.output);
-  limit_threads(job.threads);
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0) throw Error("'" + job.input + "': empty image");
-  const SpectralLayoutInfo layout = analyse_spectral_layout(spec, job.input);
-  const ColourSpaces spaces = ColourSpaces::load(job.config);
-  RgbSettings rgb{spaces.resolve(job.colorspace), job.observer, job.illuminant};
-  const RgbFromSpectral to_rgb(layout, rgb, spaces);
-  rep.colorspace = rgb.colorspace;
+  rep.input = input;
+  rep.output = output;
+  rep.output_format = "openexr";
+  ImageReader reader(input, 4);
+  const OIIO::ImageSpec& spec = reader.spec();
+  const SpectralLayoutInfo layout = analyse_spectral_layout(spec, input);
+  AtomicOutput file(output, std::span<const std::string>(&input, 1));
+  limit_threads(settings.threads);
+  auto warn = [&](const std::string& message) {
+    rep.warnings.push_back(message);
+    log(0, message);
+  };
+  const ColourSpaces spaces = ColourSpaces::load(settings.config);
+  rep.settings = settings;
+  rep.settings.spectral.mode = layout.emissive ? Mode::emission : Mode::reflectance;
+  const RgbFromSpectral to_rgb(layout, settings, spaces);
+  rep.colorspace = settings.colorspace;
   rep.kind = layout.emissive ? "emissive" : "reflective";
   rep.width = spec.width;
   rep.height = spec.height;
+  rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
   rep.bands = static_cast<int>(layout.wavelengths.size());
   rep.first_nm = layout.wavelengths.front();
   rep.last_nm = layout.wavelengths.back();
   rep.polarised = layout.polarised;
-  if (layout.polarised)
-    log(1, "'" + job.input + "': polarised: S0 (intensity) used, S1..S3 ignored");
-
-  OIIO::ImageSpec ospec =
-      output_spec_like(spec, to_rgb.output_channels(), job.half, layout.alpha >= 0);
-  ospec.attribute("compression", job.compression);
-  ospec.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
-  if (!job.date_time.empty()) ospec.attribute("DateTime", job.date_time);
-  ospec.attribute("spectralize:colorspace", rgb.colorspace);
-  if (!layout.emissive) ospec.attribute("spectralize:illuminant", job.illuminant);
-  const int in_nch = spec.nchannels;
+  rep.mip_levels = reader.mip_levels();
+  rep.subimages = reader.subimages();
+  if (layout.polarised) log(1, "'" + input + "': polarised: S0 (intensity) used, S1..S3 ignored");
+  if (!layout.unparsed.empty()) {
+    std::string list;
+    for (const std::string& n : layout.unparsed) list += (list.empty() ? "" : ", ") + n;
+    warn("'" + input + "': channels " + clip(list, 300) +
+         " look spectral but do not follow the layout's naming; ignored");
+  }
+  std::string date_warning;
+  const std::string date_time = output_date_time(date_warning);
+  if (!date_warning.empty()) warn(date_warning);
+  const OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
+  const int in_nch = spec.nchannels, out_nch = to_rgb.output_channels();
+  std::mutex mutex;
+  RgbCounts total;
   stream(
-      *in, job.input, job.output, ospec, 0,
+      reader, file, "openexr", ospec,
       [&](const float* src, std::size_t n, float* dst) {
         OIIO::parallel_for_chunked(
             0, static_cast<int64_t>(n), 4096,
             [&](int64_t b, int64_t e) {
-              to_rgb.convert(src + b * in_nch, in_nch, static_cast<std::size_t>(e - b),
-                             dst + b * to_rgb.output_channels());
+              const RgbCounts c =
+                  to_rgb.convert(src + b * in_nch, in_nch, static_cast<std::size_t>(e - b),
+                                 dst + b * out_nch, settings.half);
+              std::lock_guard<std::mutex> lock(mutex);
+              total.invalid += c.invalid;
+              total.half_overflow += c.half_overflow;
             },
-            OIIO::paropt(job.threads));
+            OIIO::paropt(settings.threads));
       },
       progress);
+  rep.invalid_pixels = total.invalid;
+  rep.half_overflow_pixels = total.half_overflow;
+  if (total.invalid > 0)
+    warn("'" + input + "': " + std::to_string(total.invalid) +
+         " pixels have NaN or infinite samples, taken as 0");
+  if (total.half_overflow > 0)
+    warn("'" + output + "': " + std::to_string(total.half_overflow) +
+         " pixels exceed HALF's range (65504) and were clamped; use --format float to keep them");
   rep.seconds = seconds_since(t_start);
   return rep;
 }

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/colorimetry.h"
 #include "core/error.h"
 #include "core/spectralizer.h"
+#include "io/colour_tags.h"
+#include "io/output_metadata.h"
+#include "io/safe_output.h"
 #include "io/spectral_layout.h"
 
 namespace spectralize {
@@ -18,7 +22,20 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
     const std::string name(spec.channel_name(c));
     if (name == "A") info.alpha = c;
     auto parsed = parse_spectral_channel(name);
-    if (!parsed) continue;
+    if (!parsed) {
+      // Bispectral (fluorescent) channels, T.<in>.<out>: reading only the diagonal would change
+      // colours a lot, so they are refused rather than reduced.
+      const std::size_t dot = name.find('.', 2);
+      if (name.rfind("T.", 0) == 0 && dot != std::string::npos &&
+          parse_spectral_channel(name.substr(0, dot)) &&
+          parse_spectral_channel("T." + name.substr(dot + 1)))
+        throw Error("'" + clip(file, 200) + "': has bispectral (fluorescent) channels such as '" +
+                    clip(name) + "'; spectralize reads emissive and reflective files only");
+      if (name.rfind("S0.", 0) == 0 || name.rfind("S1.", 0) == 0 || name.rfind("S2.", 0) == 0 ||
+          name.rfind("S3.", 0) == 0 || name.rfind("T.", 0) == 0)
+        info.unparsed.push_back(name);
+      continue;
+    }
     if (parsed->kind == SpectralChannel::Kind::reflective)
       t.emplace_back(parsed->wavelength_nm, c);
     else if (parsed->stokes == 0)
@@ -26,7 +43,7 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
     else
       stokes_other = true;
   }
-  const std::string where = "'" + file + "': ";
+  const std::string where = "'" + clip(file, 200) + "': ";
   if (s0.empty() && t.empty())
     throw Error(where + (stokes_other ? "has S1..S3 channels but no S0 (intensity) channels"
                                       : "has no spectral channels (S0.<wavelength>nm or "
@@ -44,6 +61,11 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
                   "' and '" + std::string(spec.channel_name(bands[i].second)) +
                   "' are the same wavelength");
   if (bands.size() < 2) throw Error(where + "has a single spectral band; a spectrum needs two");
+  if (bands.back().first <= ReferenceTable::kStartNm ||
+      bands.front().first >= ReferenceTable::kStartNm + ReferenceTable::kSize - 1)
+    throw Error(where + "has no band inside 360-830 nm, where colour is defined (" +
+                std::to_string(bands.front().first) + " to " + std::to_string(bands.back().first) +
+                " nm)");
   for (const auto& [nm, c] : bands) {
     info.wavelengths.push_back(nm);
     info.band_channels.push_back(c);
@@ -51,13 +73,13 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
   return info;
 }
 
-RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const RgbSettings& settings,
+RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const Settings& settings,
                                  const ColourSpaces& spaces)
     : layout_(layout), from_xyz_(spaces.from_xyz(settings.colorspace)) {
-  const Observer& observer = Observer::get(settings.observer);
+  const Observer& observer = Observer::get(settings.spectral.observer);
   std::unique_ptr<Illuminant> illuminant;
   if (!layout.emissive)
-    illuminant = std::make_unique<Illuminant>(Illuminant::get(settings.illuminant));
+    illuminant = std::make_unique<Illuminant>(Illuminant::get(settings.spectral.illuminant));
   SampleWeights w(layout.wavelengths, observer, illuminant.get());
   for (const Xyz& c : w.columns()) {
     wx_.push_back(static_cast<float>(c.X));
@@ -65,43 +87,83 @@ RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const RgbSett
     wz_.push_back(static_cast<float>(c.Z));
   }
   if (!layout.emissive) {
-    const Xyz white = w.unit_white();
-    balance_[0] = static_cast<float>(kWhiteD65.X / white.X);
-    balance_[1] = static_cast<float>(kWhiteD65.Y / white.Y);
-    balance_[2] = static_cast<float>(kWhiteD65.Z / white.Z);
+    const Xyz b = balance_to_d65(w.unit_white());
+    balance_[0] = static_cast<float>(b.X);
+    balance_[1] = static_cast<float>(b.Y);
+    balance_[2] = static_cast<float>(b.Z);
   }
 }
 
-void RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, float* out) const {
+RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, float* out,
+                                   bool half) const {
+  RgbCounts counts;
   const int out_nch = output_channels();
   const std::size_t bands = layout_.band_channels.size();
+  std::vector<float> rgb(n * 3);
   for (std::size_t p = 0; p < n; ++p) {
     const float* px = in + p * in_nch;
     float X = 0, Y = 0, Z = 0;
+    bool bad = false;
     for (std::size_t i = 0; i < bands; ++i) {
-      const float v = px[layout_.band_channels[i]];
+      float v = px[layout_.band_channels[i]];
+      if (!std::isfinite(v)) v = 0, bad = true;
       X += wx_[i] * v;
       Y += wy_[i] * v;
       Z += wz_[i] * v;
     }
+    counts.invalid += bad;
+    rgb[p * 3] = X * balance_[0];
+    rgb[p * 3 + 1] = Y * balance_[1];
+    rgb[p * 3 + 2] = Z * balance_[2];
+  }
+  from_xyz_.apply(rgb.data(), n);
+  const float limit = half ? 65504.0f : std::numeric_limits<float>::max();
+  for (std::size_t p = 0; p < n; ++p) {
     float* o = out + p * out_nch;
-    o[0] = X * balance_[0];
-    o[1] = Y * balance_[1];
-    o[2] = Z * balance_[2];
-    if (out_nch == 4) o[3] = px[layout_.alpha];
+    bool over = false;
+    for (int c = 0; c < 3; ++c) {
+      float v = rgb[p * 3 + c];
+      if (!std::isfinite(v) || std::abs(v) > limit) {
+        over = over || std::isfinite(v) || std::isinf(v);
+        v = std::isnan(v) ? 0.0f : std::clamp(v, -limit, limit);
+      }
+      o[c] = v;
+    }
+    counts.half_overflow += over;
+    if (out_nch == 4) {
+      const float a = in[p * in_nch + layout_.alpha];
+      o[3] = std::isfinite(a) ? std::clamp(a, -limit, limit) : 0.0f;
+    }
   }
-  // OCIO works on packed RGB: convert the triples in place when there is no alpha, else via
-  // a small buffer.
-  if (out_nch == 3) {
-    from_xyz_.apply(out, n);
-  } else {
-    std::vector<float> rgb(n * 3);
-    for (std::size_t p = 0; p < n; ++p)
-      for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = out[p * 4 + c];
-    from_xyz_.apply(rgb.data(), n);
-    for (std::size_t p = 0; p < n; ++p)
-      for (int c = 0; c < 3; ++c) out[p * 4 + c] = rgb[p * 3 + c];
-  }
+  return counts;
+}
+
+OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLayoutInfo& layout,
+                                const Settings& settings, const ColourSpaces& spaces,
+                                const std::string& date_time) {
+  const int nch = layout.alpha >= 0 ? 4 : 3;
+  OIIO::ImageSpec spec(source.width, source.height, nch,
+                       settings.half ? OIIO::TypeHalf : OIIO::TypeFloat);
+  spec.x = source.x;
+  spec.y = source.y;
+  spec.full_x = source.full_x;
+  spec.full_y = source.full_y;
+  spec.full_width = source.full_width;
+  spec.full_height = source.full_height;
+  spec.channelnames = {"R", "G", "B"};
+  if (layout.alpha >= 0) spec.channelnames.push_back("A");
+  spec.alpha_channel = layout.alpha >= 0 ? 3 : -1;
+  for (const auto& p : source.extra_attribs)
+    if (carried_over_attribute(p.name().string())) spec.extra_attribs.push_back(p);
+  spec.attribute("compression", settings.compression);
+  if (settings.tile > 0) spec.tile_width = spec.tile_height = settings.tile;
+  spec.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
+  spec.attribute("DateTime", date_time);
+  spec.attribute("spectralize:version", SPECTRALIZE_VERSION);
+  spec.attribute("spectralize:observer", settings.spectral.observer);
+  if (!layout.emissive) spec.attribute("spectralize:illuminant", settings.spectral.illuminant);
+  tag_colour_space(spec, spaces, settings.colorspace);
+  return spec;
 }
 
 }  // namespace spectralize

@@ -1,62 +1,75 @@
 #pragma once
-// RGB rows in, spectral-layout rows out: the heart of the image job, shared by the CLI (which
-// streams strips to a file) and the OpenImageIO plugin (which serves scanlines on demand).
+// The pixel kernel (docs/DESIGN.md §10): RGB(A) rows in, rows of a spectral image layout out.
+// Colour through OCIO to XYZ, alpha by its stated rules, spectra from the exact table, samples
+// rounded as the file stores them, previews integrated back from the written samples, and
+// every pixel counted by kind. No decisions: the caller gives channels, transforms and layout.
 
-#include <OpenImageIO/imageio.h>
-
+#include <cstdint>
 #include <memory>
 #include <mutex>
-#include <string>
 #include <vector>
 
 #include "core/spectral_table.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
-#include "io/image_job.h"
+#include "io/input_interpretation.h"
+#include "io/spectral_image_layout.h"
 
 namespace spectralize {
 
+/// What the kernel counted, summed over all calls.
+struct PixelCounts {
+  std::uint64_t invalid = 0;              // NaN / Inf colour: zero spectrum
+  std::uint64_t negative = 0;             // negative luminance: zero spectrum (out of gamut)
+  std::uint64_t outside_locus = 0;        // mapped into the spectral locus
+  std::uint64_t outside_solid = 0;        // reflectance: mapped into the reflectance solid
+  std::uint64_t brighter_than_white = 0;  // reflectance: Y above the reference white's (mapped)
+  std::uint64_t negative_component = 0;   // some RGB component < 0 (information)
+  std::uint64_t black = 0;
+  std::uint64_t half_overflow = 0;  // a sample above HALF's 65504, clamped
+  std::uint64_t alpha_invalid = 0;  // alpha NaN, infinite or outside [0, 1]: made finite, clamped
+  std::uint64_t error_pixels = 0;   // pixels the XYZ error is measured on (non-black)
+  double max_error = 0, sum_error = 0;
+  /// Adds another set of counts. Cost: O(1).
+  void add(const PixelCounts& o);
+};
+
 class SpectralConverter {
  public:
-  /// Chooses colour space and mode for an input of `input_spec` (as OIIO reports it), builds the
-  /// spectralizer, its table (loading job.cache_dir's file) and the output spec: R, G, B preview,
-  /// alpha, one channel per band, layout attributes and settings. Fills the setup fields of
-  /// `report`. Throws Error. Cost: ~1 ms (gamut facets), plus loading the cache file.
-  SpectralConverter(const ImageJobSettings& job, const OIIO::ImageSpec& input_spec,
-                    const std::string& input_format, const LogFn& log, ImageReport& report);
+  struct Setup {
+    const Spectralizer& spectralizer;
+    SpectralTable& table;
+    ChannelRoles channels;
+    int input_channels = 3;
+    bool straight_alpha = false;  // colour not yet multiplied by alpha (PNG, TIFF, ...)
+    ColourTransform to_xyz;       // input space -> CIE XYZ (D65)
+    ColourTransform to_preview;   // CIE XYZ (D65) -> the previews' space
+    const SpectralImageLayout& layout;
+    bool half = true;
+    int threads = 0;
+  };
 
-  ~SpectralConverter();
+  /// Keeps the setup (the spectralizer, table and layout must outlive the converter). Cost: O(N).
+  explicit SpectralConverter(Setup setup);
 
-  /// The spectral image's spec (size, channels, HALF/FLOAT, attributes). Cost: O(1).
-  const OIIO::ImageSpec& output_spec() const { return out_spec_; }
-  /// Channels per input pixel (as read, float) and per output pixel. Cost: O(1).
-  int input_channels() const { return in_nch_; }
-  int output_channels() const { return out_nch_; }
-
-  /// Converts n pixels (input channels, float) to output pixels (float, rounded to HALF and
-  /// clamped to its range when the output is HALF), in parallel on OIIO's pool, counting pixel
-  /// kinds and measuring each written spectrum's XYZ error. Thread-safe. Cost: O(n x bands).
+  /// Converts n pixels of input_channels floats into n output pixels of the layout (floats,
+  /// already rounded to HALF and clamped to its range for HALF output), in parallel on OIIO's
+  /// pool. Alpha: colour is premultiplied in linear light; a reflectance is the spectrum of the
+  /// straight colour times alpha (docs/DESIGN.md §9). Thread-safe. Cost: O(n x bands).
   void convert(const float* in, std::size_t n, float* out);
 
-  /// Writes counters, errors and cache statistics into `report`, and saves the node cache if it
-  /// grew. Cost: O(nodes) when saving.
-  void finish(ImageReport& report, const LogFn& log);
+  /// The counts so far. Cost: O(1).
+  PixelCounts counts() const;
 
  private:
-  struct Counters;
-  const ImageJobSettings& job_;
-  OIIO::ImageSpec out_spec_;
-  int in_nch_ = 0, out_nch_ = 0, alpha_ = -1, preview_ = 3;
-  bool grey_ = false;
+  Setup s_;
   std::size_t bands_ = 0;
-  std::unique_ptr<ColourTransform> to_xyz_, to_preview_;
-  std::unique_ptr<Spectralizer> spectralizer_;
-  std::unique_ptr<SpectralTable> table_;
+  int out_nch_ = 0;
   std::vector<float> wx_, wy_, wz_;  // integration weights, to measure what is written
-  float unbalance_[3] = {1, 1, 1};   // reflectance: back from W_ref to D65 for the preview
-  std::string cache_file_;
-  std::mutex mutex_;
-  std::unique_ptr<Counters> total_;
+  float unbalance_[3] = {1, 1, 1};   // from the spectra's white back to D65, for previews
+  double white_y_ = 1;               // Y of the reference white (reflectance brightness)
+  mutable std::mutex mutex_;
+  PixelCounts total_;
 };
 
 }  // namespace spectralize

@@ -19,6 +19,8 @@
 #include <utility>
 
 #include "core/error.h"
+#include "io/image_file_output.h"
+#include "io/safe_output.h"
 
 namespace fs = std::filesystem;
 
@@ -215,18 +217,6 @@ void draw(const SpectrumPlot& plot, Painter& p) {
 
 // --- Raster: OIIO's ImageBufAlgo render functions on a supersampled float RGB image ---
 
-// The first DejaVu Sans found in the usual font folders (Debian's fonts-dejavu-core first).
-std::string find_font() {
-  for (const char* f :
-       {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-        "/usr/share/fonts/dejavu-sans-fonts/DejaVuSans.ttf", "/usr/share/fonts/TTF/DejaVuSans.ttf",
-        "/usr/local/share/fonts/DejaVuSans.ttf"}) {
-    std::error_code ec;
-    if (fs::is_regular_file(f, ec)) return f;
-  }
-  return "";
-}
-
 class RasterPainter final : public Painter {
  public:
   RasterPainter(OIIO::ImageBuf& buf, std::string font) : buf_(buf), font_(std::move(font)) {}
@@ -291,31 +281,6 @@ std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   return ext;
-}
-
-// Refuses a missing output folder; returns the temporary path beside `path`, with the same
-// extension so that writers pick the same format.
-std::string temporary_beside(const std::string& path) {
-  const fs::path out(path);
-  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error("'" + path + "': the folder '" + dir.string() + "' does not exist");
-  if (fs::is_directory(out, ec)) throw Error("'" + path + "': is a directory");
-  const std::string name = fmt::format(".{}.spectralize-{}.tmp{}", out.stem().string(), ::getpid(),
-                                       out.extension().string());
-  return (dir / name).string();
-}
-
-// Moves the finished temporary file into place, or removes it and reports why.
-void commit(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error("'" + path + "': cannot move the finished file into place: " + ec.message());
-  }
 }
 
 // --- SVG: the same layout as text ---
@@ -433,7 +398,8 @@ bool is_plot_path(const std::string& path) {
   return true;
 }
 
-void write_raster(const SpectrumPlot& plot, const std::string& path) {
+void write_raster(const SpectrumPlot& plot, const std::string& path,
+                  std::span<const std::string> inputs) {
   const std::string font = find_font();
   if (font.empty())
     throw Error("'" + path +
@@ -447,7 +413,6 @@ void write_raster(const SpectrumPlot& plot, const std::string& path) {
   }
   const std::string format = writer->format_name();
   writer.reset();
-  const std::string tmp = temporary_beside(path);
 
   // Draw at kSupersample x the size, then average kSupersample^2 pixels per output pixel.
   // Half samples: 32 MB instead of 65, and exact for 8-bit output.
@@ -474,15 +439,11 @@ void write_raster(const SpectrumPlot& plot, const std::string& path) {
     small.specmod().attribute("oiio:ColorSpace", "sRGB");
   }
   small.specmod().attribute("Software", "spectralize " SPECTRALIZE_VERSION);
-  if (!small.write(tmp, type, format)) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw Error("'" + path + "': cannot write: " + small.geterror());
-  }
-  commit(tmp, path);
+  write_image_file(small, path, type, inputs);
 }
 
-void write_svg(const SpectrumPlot& plot, const std::string& path) {
+void write_svg(const SpectrumPlot& plot, const std::string& path,
+               std::span<const std::string> inputs) {
   SvgPainter painter;
   draw(plot, painter);
   std::string title;
@@ -494,26 +455,17 @@ void write_svg(const SpectrumPlot& plot, const std::string& path) {
       "  <title>{2}</title>\n"
       "{3}</svg>\n",
       kPlotWidth, kPlotHeight, xml_escape(title), painter.body);
-  const std::string tmp = temporary_beside(path);
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << svg;
-    f.close();
-    if (!f) {
-      const int why = errno;
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error("'" + path + "': cannot write: " + std::strerror(why));
-    }
-  }
-  commit(tmp, path);
+  AtomicOutput file(path, inputs, /*allow_stream=*/true);
+  file.write(svg);
+  file.commit();
 }
 
-void write_plot(const SpectrumPlot& plot, const std::string& path) {
+void write_plot(const SpectrumPlot& plot, const std::string& path,
+                std::span<const std::string> inputs) {
   if (lower_extension(path) == ".svg")
-    write_svg(plot, path);
+    write_svg(plot, path, inputs);
   else
-    write_raster(plot, path);
+    write_raster(plot, path, inputs);
 }
 
 }  // namespace spectralize

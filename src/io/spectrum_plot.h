@@ -4,6 +4,7 @@
 // layout, so they look the same. No OIIO types in this header.
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,15 +51,18 @@ bool is_plot_path(const std::string& path);
 /// Draws the plot with ImageBufAlgo (supersampled, then filtered down) and writes it in the
 /// format of `path`'s extension: 8-bit display sRGB, or linear half for OpenEXR / float for
 /// Radiance HDR. Needs a TrueType font (DejaVu Sans); throws Error naming the file and the
-/// reason. Writes a temporary file beside `path` and renames it. Cost: ~0.2 s, ~40 MB.
-void write_raster(const SpectrumPlot& plot, const std::string& path);
+/// reason. Written through io/safe_output.h (never over one of `inputs`). Cost: ~0.2 s, ~40 MB.
+void write_raster(const SpectrumPlot& plot, const std::string& path,
+                  std::span<const std::string> inputs = {});
 
-/// Writes the plot as SVG text (one <polyline> per curve, one point per sample), through a
-/// temporary file renamed into place. Throws Error naming the file and the reason.
-/// Cost: O(samples), ~ms.
-void write_svg(const SpectrumPlot& plot, const std::string& path);
+/// Writes the plot as SVG text (one <polyline> per curve, one point per sample), through
+/// io/safe_output.h (a stream such as /dev/stdout is written in place). Throws Error naming the
+/// file and the reason. Cost: O(samples), ~ms.
+void write_svg(const SpectrumPlot& plot, const std::string& path,
+               std::span<const std::string> inputs = {});
 
 /// write_svg for ".svg" paths, write_raster otherwise. Cost: theirs.
-void write_plot(const SpectrumPlot& plot, const std::string& path);
+void write_plot(const SpectrumPlot& plot, const std::string& path,
+                std::span<const std::string> inputs = {});
 
 }  // namespace spectralize

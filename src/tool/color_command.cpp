@@ -1,11 +1,10 @@
-// spectralize --color: one or more colours to spectra, printed as CSV or JSON.
+// spectralize --color: one or more colours to spectra, printed as CSV or JSON (to stdout or to
+// the file of -o).
 
 #include <fmt/core.h>
 #include <fmt/format.h>
 
-#include <charconv>
-#include <cmath>
-#include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -13,7 +12,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
-#include "io/spectrum_plot.h"
+#include "io/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 
@@ -27,33 +26,33 @@ Json xyz_json(const Xyz& v) {
   return Json::array({v.X, v.Y, v.Z});
 }
 
-Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& sp,
-                 const SpectrumResult& r) {
-  const auto& s = sp.settings();
+Json result_json(const Rgb& rgb, const std::string& space, const Options& opt,
+                 const Spectralizer& sp, const SpectrumResult& r) {
   Json j;
   j["input_rgb"] = Json::array({rgb.r, rgb.g, rgb.b});
   j["colorspace"] = space;
-  j["mode"] = std::string(to_string(s.mode));
-  j["wavelengths"] = s.grid.to_string();
-  j["observer"] = sp.observer().name;
-  if (s.mode == Mode::reflectance) j["illuminant"] = sp.illuminant()->name;
-  if (s.model == Model::paper) j["filter"] = s.filter.to_string();  // the paper model's only
-  j["model"] = std::string(to_string(s.model));
-  if (s.mode == Mode::emission) j["emission_basis"] = s.emission_basis;
+  // The settings that mattered, from the schema (mode resolved).
+  Settings s = opt.settings;
+  s.spectral = sp.settings();
+  for (const auto& [key, value] : describe_settings(s, kColor))
+    if (key != "colorspace" && key != "print_format") j[key] = value;
   j["status"] = std::string(to_string(r.status));
   if (!r.message.empty()) j["message"] = r.message;
   j["input_xyz"] = xyz_json(r.input);
   j["target_xyz"] = xyz_json(r.target);
   j["xyz"] = xyz_json(r.xyz);
   j["relative_error"] = r.relative_error;
-  j["admissible"] = r.admissible;
-  j["dropped"] = r.dropped;
-  j["bounded"] = r.bounded;
-  j["edge_capped"] = r.edge_capped;
+  // The model's own details (the paper model: admissible, dropped, bounded, edge_capped).
+  for (const ModelDetail& d : r.details)
+    if (d.boolean)
+      j[d.name] = d.value != 0;
+    else
+      j[d.name] = d.value;
+  j["fallback"] = r.fallback;
   j["gamut_distance"] = r.gamut_distance;
   Json wl = Json::array(), values = Json::array();
-  for (std::size_t i = 0; i < s.grid.size(); ++i) {
-    wl.push_back(s.grid[i]);
+  for (std::size_t i = 0; i < sp.settings().grid.size(); ++i) {
+    wl.push_back(sp.settings().grid[i]);
     values.push_back(r.values[i]);
   }
   j["wavelengths_nm"] = std::move(wl);
@@ -64,14 +63,15 @@ Json result_json(const Rgb& rgb, const std::string& space, const Spectralizer& s
 }  // namespace
 
 int run_color(const Options& opt) {
-  // -o naming an image or an .svg: draw the spectra instead of printing them.
-  if (!opt.output.empty() && is_plot_path(opt.output)) return run_plot_color(opt);
-  // Validate every flag before any work, so a mistake is reported as such (exit 2).
-  const std::string format = opt.format.empty() ? "csv" : opt.format;
-  if (format != "csv" && format != "json")
-    throw UsageError{fmt::format("--format '{}': valid formats for --color are csv, json", format)};
+  // JSON by --format, or by the extension of -o.
+  const std::string ext = std::filesystem::path(opt.output).extension().string();
+  const bool json = opt.given.count("--format") ? opt.settings.json : ext == ".json";
   const ColourInputs in = colour_inputs(opt);
   const auto& [settings, colours, spaces, to_xyz] = in;
+  // The destination is checked before any work (a file, or a stream such as /dev/stdout).
+  std::unique_ptr<AtomicOutput> file;
+  if (!opt.output.empty())
+    file = std::make_unique<AtomicOutput>(opt.output, std::vector<std::string>{}, true);
 
   Spectralizer spectralizer(settings);
   std::vector<SpectrumResult> results;
@@ -79,22 +79,29 @@ int run_color(const Options& opt) {
   for (const Rgb& c : colours)
     results.push_back(spectralize_colour(spectralizer, to_xyz, c, status));
 
+  std::string text;
   const auto& grid = settings.grid;
-  if (format == "json") {
+  if (json) {
     Json out = Json::array();
     for (std::size_t i = 0; i < results.size(); ++i)
-      out.push_back(result_json(colours[i], to_xyz.source(), spectralizer, results[i]));
-    fmt::print("{}\n", (results.size() == 1 ? out[0] : out).dump(2));
+      out.push_back(result_json(colours[i], to_xyz.source(), opt, spectralizer, results[i]));
+    text = (results.size() == 1 ? out[0] : out).dump(2) + "\n";
   } else {
-    std::string header = "wavelength_nm";
+    text = "wavelength_nm";
     for (std::size_t c = 0; c < results.size(); ++c)
-      header += results.size() == 1 ? ",value" : fmt::format(",value_{}", c + 1);
-    fmt::print("{}\n", header);
+      text += results.size() == 1 ? ",value" : fmt::format(",value_{}", c + 1);
+    text += "\n";
     for (std::size_t i = 0; i < grid.size(); ++i) {
-      std::string row = fmt::format("{}", grid[i]);
-      for (const auto& r : results) row += fmt::format(",{}", r.values[i]);
-      fmt::print("{}\n", row);
+      text += fmt::format("{}", grid[i]);
+      for (const auto& r : results) text += fmt::format(",{}", r.values[i]);
+      text += "\n";
     }
+  }
+  if (file) {
+    file->write(text);
+    file->commit();
+  } else {
+    fmt::print("{}", text);
   }
   return status;
 }

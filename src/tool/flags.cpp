@@ -1,46 +1,53 @@
 #include "tool/flags.h"
 
 #include <fmt/core.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <vector>
+
+#include "io/input_interpretation.h"
+#include "io/safe_output.h"
 
 namespace spectralize::tool {
 
-SpectralizerSettings spectral_settings(const Options& opt) {
-  SpectralizerSettings s;
-  s.grid = flag_value("--wavelengths", [&] { return WavelengthGrid::parse(opt.wavelengths); });
-  s.observer = flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
-  s.illuminant = flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
-  if (!opt.filter.empty())
-    s.filter = flag_value("--filter", [&] { return EdgeFilter::parse(opt.filter); });
-  s.model = flag_value("--model", [&] { return parse_model(opt.model); });
-  s.emission_basis =
-      flag_value("--emission-basis", [&] { return parse_emission_basis(opt.emission_basis); });
-  return s;
-}
-
 ColourInputs colour_inputs(const Options& opt) {
-  SpectralizerSettings settings = spectral_settings(opt);
-  settings.mode =
-      flag_value("--mode", [&] { return parse_mode(opt.mode.empty() ? "emission" : opt.mode); });
+  SpectralizerSettings settings = opt.settings.spectral;
+  // A single colour has no data type to decide by: "auto" means light, like float data.
+  settings.mode = opt.settings.mode == ModeChoice::reflectance ? Mode::reflectance : Mode::emission;
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
   ColourSpaces spaces = load_config(opt);
-  const std::string space =
-      opt.colorspace.empty() ? std::string(kDefaultColourSpace) : opt.colorspace;
-  ColourTransform to_xyz = flag_value("--colorspace", [&] { return spaces.to_xyz(space); });
+  ColourTransform to_xyz = flag_value("--colorspace", [&] {
+    const std::string space = opt.settings.colorspace.empty()
+                                  ? default_colour_space(spaces, true).first
+                                  : opt.settings.colorspace;
+    return spaces.to_xyz(space);
+  });
   return {std::move(settings), std::move(colours), std::move(spaces), std::move(to_xyz)};
 }
 
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
                                   const Rgb& c, int& status) {
-  SpectrumResult r = spectralizer.spectralize(to_xyz(c.r, c.g, c.b));
-  if (r.status == Status::out_of_gamut)
+  const Xyz xyz = to_xyz(c.r, c.g, c.b);
+  SpectrumResult r = spectralizer.spectralize(xyz);
+  if (r.status == Status::out_of_gamut) {
+    std::string hint;
+    // A reflectance far above white is usually 0..255 or 0..65535 data given as 0..1.
+    if (spectralizer.settings().mode == Mode::reflectance &&
+        spectralizer.target_of(xyz).Y > spectralizer.reference_white().Y * (1 + 1e-6))
+      hint = std::max({c.r, c.g, c.b}) > 2
+                 ? " (brighter than white: reflectances are 0..1; did you mean 0-1 values?)"
+                 : " (brighter than white)";
     fmt::print(stderr,
-               "spectralize WARNING: colour {} ({}) is out of gamut: {} (moved {:.6f} in xy)\n",
-               c.text, to_xyz.source(), r.message, r.gamut_distance);
+               "spectralize WARNING: colour {} ({}) is out of gamut{}: {} (moved {:.6f} in xy)\n",
+               c.text, to_xyz.source(), hint, r.message, r.gamut_distance);
+  }
   if (r.status == Status::invalid) {
     fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
                r.message);
@@ -49,7 +56,6 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const Colour
   return r;
 }
 
-// Parses "R,G,B" into three finite numbers.
 Rgb parse_rgb(const std::string& text) {
   std::vector<double> v;
   std::size_t pos = 0;
@@ -64,33 +70,74 @@ Rgb parse_rgb(const std::string& text) {
     double x = 0;
     auto r = std::from_chars(first, part.data() + part.size(), x);
     if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
-      throw UsageError{fmt::format("--color '{}': '{}' is not a number", text, part)};
+      throw UsageError{fmt::format("--color '{}': '{}' is not a number", clip(text), clip(part))};
     if (!std::isfinite(x))
       throw UsageError{
-          fmt::format("--color '{}': components must be finite, got '{}'", text, part)};
+          fmt::format("--color '{}': components must be finite, got '{}'", clip(text), clip(part))};
     v.push_back(x);
     if (comma == std::string::npos) break;
     pos = comma + 1;
   }
   if (v.size() != 3)
-    throw UsageError{
-        fmt::format("--color '{}': expected 3 components R,G,B, got {}", text, v.size())};
+    throw UsageError{fmt::format(
+        "--color '{}': expected 3 components R,G,B separated by commas, got {}{}", clip(text),
+        v.size(), v.size() == 1 ? " (write --color 1,0.5,0.2, not --color 1 0.5 0.2)" : "")};
   return {v[0], v[1], v[2], text};
 }
 
 ColourSpaces load_config(const Options& opt) {
-  if (opt.config.empty()) return ColourSpaces::load();
-  return flag_value("--config", [&] { return ColourSpaces::load(opt.config); });
+  if (opt.settings.config.empty()) return ColourSpaces::load();
+  return flag_value("--config", [&] { return ColourSpaces::load(opt.settings.config); });
 }
 
-int parse_int_flag(const char* flag, const std::string& text, int min, int max) {
-  int v = 0;
-  auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size())
-    throw UsageError{fmt::format("{} '{}': not a whole number", flag, text)};
-  if (v < min || v > max)
-    throw UsageError{fmt::format("{} '{}': must be between {} and {}", flag, text, min, max)};
-  return v;
+LogFn console_log(int verbosity) {
+  return [verbosity](int level, const std::string& message) {
+    if (level == 0 && verbosity > 0)
+      fmt::print(stderr, "spectralize WARNING: {}\n", message);
+    else if (level > 0 && verbosity >= 2)
+      fmt::print(stderr, "spectralize: {}\n", message);
+  };
+}
+
+ProgressFn console_progress(int verbosity, const std::string& what) {
+  using Clock = std::chrono::steady_clock;
+  if (verbosity == 0) return nullptr;
+  struct State {
+    Clock::time_point start = Clock::now(), last = Clock::now();
+    bool tty = ::isatty(STDERR_FILENO) != 0;
+  };
+  auto state = std::make_shared<State>();
+  return [state, what](std::uint64_t done, std::uint64_t total) {
+    if (total == 0) return;
+    const auto now = Clock::now();
+    const double t = std::chrono::duration<double>(now - state->start).count();
+    const double f = static_cast<double>(done) / static_cast<double>(total);
+    const double rate = t > 0 ? static_cast<double>(done) / t / 1e6 : 0;
+    const double eta = f > 0 ? t * (1 - f) / f : 0;
+    if (state->tty) {
+      const int filled = static_cast<int>(f * 30);
+      fmt::print(stderr, "\r[{:<30}] {:3.0f}%  {:.2f} Mpixel/s  ETA {:.0f} s ",
+                 std::string(filled, '#'), 100 * f, rate, eta);
+      if (done == total) fmt::print(stderr, "\n");
+      std::fflush(stderr);
+      return;
+    }
+    // Off a terminal (farm logs): a line every 10 seconds, none for short jobs.
+    if (std::chrono::duration<double>(now - state->last).count() >= 10 && done < total) {
+      state->last = now;
+      fmt::print(stderr, "spectralize: {}: {:.0f}% ({:.2f} Mpixel/s, ETA {:.0f} s)\n", what,
+                 100 * f, rate, eta);
+    }
+  };
+}
+
+void check_stdout() {
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    const int err = errno;
+    throw Error(std::string("cannot write to standard output: ") +
+                (err ? std::strerror(err) : "write error"));
+  }
 }
 
 }  // namespace spectralize::tool

@@ -1,6 +1,6 @@
 #pragma once
-// Validation of flag values shared by the commands: every mistake becomes a UsageError whose
-// message names the flag and the value.
+// What the commands share: turning core and io errors into usage errors that name the flag,
+// the --color values, the console log and progress, and the checked report and stdout output.
 
 #include <string>
 #include <vector>
@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "io/job_log.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -23,11 +24,6 @@ auto flag_value(const char* flag, Fn&& fn) {
   }
 }
 
-/// The grid, observer, illuminant, filter, model and emission basis of the options (mode left
-/// to the caller).
-/// Cost: O(1).
-SpectralizerSettings spectral_settings(const Options& options);
-
 /// A colour given as "R,G,B".
 struct Rgb {
   double r, g, b;
@@ -35,12 +31,12 @@ struct Rgb {
 };
 
 /// Parses --color's "R,G,B": three finite numbers (spaces around them allowed); UsageError
-/// naming the value otherwise. Cost: O(length).
+/// naming the value and the slip otherwise. Cost: O(length).
 Rgb parse_rgb(const std::string& text);
 
-/// What every --color command needs: the settings (mode defaulting to emission), the parsed
-/// colours, the config and the transform of --colorspace to XYZ. UsageError for a mistake.
-/// Cost: parsing the config, ~ms.
+/// What every --color command needs: the spectralizer settings (mode auto meaning emission),
+/// the parsed colours, the config and the transform of --colorspace (default: the config's
+/// scene_linear role) to XYZ. UsageError for a mistake. Cost: parsing the config, ~ms.
 struct ColourInputs {
   SpectralizerSettings settings;
   std::vector<Rgb> colours;
@@ -49,8 +45,9 @@ struct ColourInputs {
 };
 ColourInputs colour_inputs(const Options& options);
 
-/// The spectrum of one --color value; warns on stderr when it was out of gamut and mapped,
-/// reports an error and sets `status` to kExitFailure when it is invalid. Cost: one solve.
+/// The spectrum of one --color value; warns on stderr when it was out of gamut and mapped (and
+/// says when a reflectance was brighter than white), reports an error and sets `status` to
+/// kExitFailure when it is invalid. Cost: one solve.
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
                                   const Rgb& colour, int& status);
 
@@ -58,7 +55,15 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const Colour
 /// Cost: parsing the config, ~ms.
 ColourSpaces load_config(const Options& options);
 
-/// Parses a whole number in [min, max] given to `flag`. Cost: O(length).
-int parse_int_flag(const char* flag, const std::string& text, int min, int max);
+/// Warnings unless -q; stage details (levels 1 and 2) with -v. Cost: O(1).
+LogFn console_log(int verbosity);
+
+/// A progress display on stderr: a bar when stderr is a terminal, a line every few seconds
+/// otherwise (farm logs) when verbose. Cost: O(1) per call.
+ProgressFn console_progress(int verbosity, const std::string& what);
+
+/// Flushes stdout and throws Error when anything written to it was lost (a full disk, a closed
+/// pipe). Cost: a flush.
+void check_stdout();
 
 }  // namespace spectralize::tool

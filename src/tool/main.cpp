@@ -1,13 +1,19 @@
 // spectralize: RGB colours and images to exact spectra (see README.md).
 
 #include <OpenImageIO/argparse.h>
+#include <fmt/core.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
 
-#include <csignal>
 #include <cstdio>
-#include <iostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
+#include "io/safe_output.h"
+#include "io/spectrum_plot.h"
+#include "tool/flags.h"
 #include "tool/options.h"
 
 using namespace spectralize;
@@ -15,163 +21,292 @@ using namespace spectralize::tool;
 
 namespace {
 
-// Binds "--flag VALUE" to a string field, so every value is validated by the command that uses
-// it, with a message naming the flag (ArgParse's own conversions accept garbage as 0).
-auto store(std::string& field) {
-  return [&field](OIIO::cspan<const char*> args) { field = args[1]; };
+// Flags that are not settings: what to do and where to write. Each lists its commands.
+struct CommandFlag {
+  const char* flag;
+  const char* metavar;
+  unsigned commands;
+  const char* help;
+};
+constexpr unsigned kPlots = kPlotColor | kPlotPixel;
+constexpr CommandFlag kCommandFlags[] = {
+    {"-o", "FILE", kImage | kToRgb | kColor | kPlots,
+     "The file to write: the spectral OpenEXR (images), the RGB OpenEXR (--to-rgb), a plot "
+     "(.png, .svg, ...), or the printed spectra (--color: .csv, .json)"},
+    {"--to-rgb", "FILE", kToRgb,
+     "Integrate a spectral OpenEXR (S0 or T channels, any writer's) back to RGB(A)"},
+    {"--color", "R,G,B", kColor | kPlotColor,
+     "Spectralize a colour (repeatable); prints CSV or JSON, or plots with -o PLOT.png"},
+    {"--plot-pixel", "X,Y", kPlotPixel,
+     "Plot the spectrum of pixel X,Y (0-based, top-left) of a spectral EXR (repeatable)"},
+    {"--report", "FILE", kImage | kToRgb,
+     "Write a JSON report (colour space and why, counts by kind, errors, cache, timings); "
+     "/dev/stdout works"},
+};
+
+std::string command_name(Command c) {
+  switch (c) {
+    case kImage:
+      return "an image conversion (INPUT -o OUTPUT.exr)";
+    case kToRgb:
+      return "--to-rgb";
+    case kColor:
+      return "--color";
+    case kPlotColor:
+      return "a --color plot";
+    case kPlotPixel:
+      return "--plot-pixel";
+    case kIngest:
+      return "ingest";
+  }
+  return "this command";
+}
+
+std::string commands_list(unsigned commands) {
+  std::string out;
+  const std::pair<unsigned, const char*> names[] = {{kImage, "image"},
+                                                    {kToRgb, "--to-rgb"},
+                                                    {kColor, "--color"},
+                                                    {kPlotColor, "plots"},
+                                                    {kPlotPixel, "--plot-pixel"}};
+  for (const auto& [bit, name] : names)
+    if ((commands & bit) && !(bit == kPlotColor && (commands & kColor)))
+      out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+int terminal_width() {
+  struct winsize w {};
+  if (::isatty(STDOUT_FILENO) && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 40)
+    return w.ws_col;
+  return 100;
+}
+
+// "  --flag VALUE   text..." with the text wrapped at the terminal's width.
+void print_entry(const std::string& left, const std::string& text, int width) {
+  constexpr std::size_t kColumn = 26;
+  std::string line = "  " + left;
+  line += line.size() + 1 < kColumn ? std::string(kColumn - line.size(), ' ')
+                                    : "\n" + std::string(kColumn, ' ');
+  std::size_t col = line.size() - line.rfind('\n') - 1;
+  if (line.rfind('\n') == std::string::npos) col = line.size();
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find(' ', pos);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(pos, end - pos);
+    if (col + word.size() + 1 > static_cast<std::size_t>(width) && col > kColumn) {
+      line += "\n" + std::string(kColumn, ' ');
+      col = kColumn;
+    } else if (col > kColumn) {
+      line += ' ';
+      ++col;
+    }
+    line += word;
+    col += word.size();
+    pos = end + 1;
+  }
+  fmt::print("{}\n", line);
+}
+
+void print_help() {
+  const int width = terminal_width();
+  fmt::print(
+      "spectralize " SPECTRALIZE_VERSION
+      " -- exact RGB-to-spectrum conversion (Zhdanov & Potemin)\n"
+      "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
+      "stays <= 1.\n\n"
+      "Usage:\n"
+      "  spectralize INPUT -o OUTPUT.exr [options]             an RGB image to a spectral "
+      "OpenEXR\n"
+      "  spectralize --to-rgb IN.exr -o OUT.exr [options]      a spectral OpenEXR to RGB(A)\n"
+      "  spectralize --color R,G,B [--color ...] [options]     spectra of colours (CSV, JSON)\n"
+      "  spectralize --color R,G,B [...] -o PLOT.png|PLOT.svg  a plot of their spectra\n"
+      "  spectralize --plot-pixel X,Y IN.exr -o PLOT.png       a plot of a pixel of a "
+      "spectral EXR\n\n"
+      "Commands and outputs:\n");
+  for (const CommandFlag& f : kCommandFlags)
+    print_entry(std::string(f.flag) + " " + f.metavar, f.help, width);
+  fmt::print("\nSettings [default] (commands they apply to):\n");
+  const Settings defaults;
+  for (const SettingSpec& s : settings_schema()) {
+    std::string value = s.default_text.empty() ? s.format(defaults) : std::string(s.default_text);
+    std::string flag = std::string(s.flag) + " " + std::string(s.metavar);
+    if (!s.alias.empty()) flag = std::string(s.alias) + ", " + flag;
+    print_entry(flag, std::string(s.help) + " [" + value + "] (" + commands_list(s.commands) + ")",
+                width);
+  }
+  fmt::print("\nGeneral:\n");
+  print_entry("-v", "Verbose: stages, colour-space choice, cache statistics", width);
+  print_entry("-q", "Quiet: no progress, summary or warnings", width);
+  print_entry("-h, --help", "Print this help and exit", width);
+  print_entry("--version", "Print the version and exit", width);
+  print_entry("--", "Everything after it is an input file, even if it starts with '-'", width);
+  fmt::print(
+      "\nExit status: 0 done (warnings on stderr), 1 the job failed (the message names the "
+      "file), 2 a wrong command line.\n");
+}
+
+// Binds a flag to the list of (flag, value) pairs; validation happens once the command is
+// known, so every message names the flag and the value.
+auto store(std::vector<std::pair<std::string, std::string>>& given, std::string flag) {
+  return [&given, flag](OIIO::cspan<const char*> args) { given.emplace_back(flag, args[1]); };
+}
+
+// Reads the command line into `opt`; throws UsageError.
+void parse(int argc, const char** argv, Options& opt, bool& help, bool& version) {
+  // "--" ends the options: what follows are input files, whatever their names.
+  std::vector<const char*> args;
+  std::vector<std::string> after_dashes;
+  for (int i = 0; i < argc; ++i) {
+    if (std::string(argv[i]) == "--" && i > 0) {
+      for (int k = i + 1; k < argc; ++k) after_dashes.emplace_back(argv[k]);
+      break;
+    }
+    args.push_back(argv[i]);
+  }
+  std::vector<std::pair<std::string, std::string>> given;
+  OIIO::ArgParse ap;
+  ap.add_help(false).exit_on_error(false);
+  ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) {
+    opt.inputs.emplace_back(a[0]);
+  });
+  ap.arg("--help").hidden().action([&](OIIO::cspan<const char*>) { help = true; });
+  ap.arg("-h").hidden().action([&](OIIO::cspan<const char*>) { help = true; });
+  ap.arg("--version").hidden().action([&](OIIO::cspan<const char*>) { version = true; });
+  ap.arg("-v").hidden().action([&](OIIO::cspan<const char*>) {
+    opt.verbosity = 2;
+    opt.given.insert("-v");
+  });
+  ap.arg("-q").hidden().action([&](OIIO::cspan<const char*>) {
+    opt.verbosity = 0;
+    opt.given.insert("-q");
+  });
+  for (const CommandFlag& f : kCommandFlags)
+    ap.arg((std::string(f.flag) + " " + f.metavar).c_str()).hidden().action(store(given, f.flag));
+  std::set<std::string> registered;
+  for (const SettingSpec& s : settings_schema())
+    for (std::string_view flag : {s.flag, s.alias})
+      if (!flag.empty() && registered.insert(std::string(flag)).second)
+        ap.arg((std::string(flag) + " " + std::string(s.metavar)).c_str())
+            .hidden()
+            .action(store(given, std::string(flag)));
+  if (ap.parse_args(static_cast<int>(args.size()), args.data()) < 0)
+    throw UsageError{clip(ap.geterror(), 300)};
+  for (auto& f : after_dashes) opt.inputs.push_back(std::move(f));
+  if (help || version) return;
+
+  for (const auto& [flag, value] : given) {
+    opt.given.insert(flag);
+    if (flag == "--color") opt.colors.push_back(value);
+    if (flag == "--plot-pixel") opt.plot_pixels.push_back(value);
+  }
+  auto last = [&](const char* flag) {
+    std::string v;
+    for (const auto& [f, value] : given)
+      if (f == flag) v = value;
+    return v;
+  };
+  opt.output = last("-o");
+  opt.report = last("--report");
+  opt.to_rgb = last("--to-rgb");
+  for (const char* f : {"-o", "--report", "--to-rgb"})
+    if (opt.given.count(f) && last(f).empty())
+      throw UsageError{std::string(f) + ": an empty file name"};
+
+  // The command.
+  if (!opt.plot_pixels.empty()) {
+    opt.command = kPlotPixel;
+  } else if (!opt.colors.empty()) {
+    if (!opt.inputs.empty()) {
+      bool numbers = true;
+      for (const std::string& in : opt.inputs)
+        numbers = numbers && in.find_first_not_of("0123456789.+-eE") == std::string::npos;
+      throw UsageError{numbers ? "--color takes R,G,B as one argument with commas: --color " +
+                                     clip(opt.colors.back()) + "," + opt.inputs[0] +
+                                     (opt.inputs.size() > 1 ? "," + opt.inputs[1] : "")
+                               : "give one of --color, --to-rgb or an input image, not several"};
+    }
+    opt.command = kColor;
+  } else if (opt.given.count("--to-rgb")) {
+    if (!opt.inputs.empty()) throw UsageError{"give one of --to-rgb or an input image, not both"};
+    opt.command = kToRgb;
+  } else if (!opt.inputs.empty() || opt.given.count("-o")) {
+    opt.command = kImage;
+  } else {
+    throw UsageError{
+        "nothing to do: give INPUT -o OUTPUT.exr, --to-rgb IN.exr -o OUT.exr or "
+        "--color R,G,B"};
+  }
+  if (opt.command == kColor && !opt.output.empty()) {
+    // -o naming an image or an .svg: draw the spectra.
+    if (is_plot_path(opt.output)) opt.command = kPlotColor;
+  }
+
+  // Every flag must apply to the command, and every value must pass the schema.
+  for (const auto& [flag, value] : given) {
+    bool command_flag = false;
+    for (const CommandFlag& f : kCommandFlags)
+      if (flag == f.flag) {
+        command_flag = true;
+        if (!(f.commands & opt.command))
+          throw UsageError{flag + " does not apply to " + command_name(opt.command)};
+      }
+    if (command_flag) continue;
+    const SettingSpec* spec = find_setting_for_flag(flag, opt.command);
+    if (!spec)
+      throw UsageError{flag + " does not apply to " + command_name(opt.command) +
+                       " (it applies to " + commands_list(flag_commands(flag)) + ")"};
+    try {
+      apply_setting(opt.settings, *spec, value, flag);
+    } catch (const Error& e) {
+      throw UsageError{e.what()};
+    }
+  }
 }
 
 }  // namespace
 
 int main(int argc, const char** argv) {
-  // Past a file-size limit (ulimit -f) a write should fail with EFBIG, reported and cleaned up,
-  // not kill the process with SIGXFSZ and leave a partial temporary file behind.
-  std::signal(SIGXFSZ, SIG_IGN);
+  install_cleanup_handlers();
   Options opt;
-  OIIO::ArgParse ap;
-  ap.intro("spectralize " SPECTRALIZE_VERSION
-           " -- exact RGB-to-spectrum conversion (Zhdanov & Potemin)\n"
-           "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
-           "stays <= 1.")
-      .usage(
-          "spectralize INPUT -o OUTPUT.exr [options]\n       spectralize --color R,G,B [options]\n"
-          "       spectralize --color R,G,B [--color ...] -o PLOT.png|PLOT.svg [options]\n"
-          "       spectralize --plot-pixel X,Y IN.exr -o PLOT.png|PLOT.svg")
-      .add_help(false)  // ours prints to stdout and exits 0 even with exit_on_error(false)
-      .exit_on_error(false);
-  bool help = false;
-  ap.arg("--help").help("Print this help and exit").action([&](OIIO::cspan<const char*>) {
-    help = true;
-  });
-
-  ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> args) {
-    opt.inputs.emplace_back(args[0]);
-  });
-
-  ap.separator("Images (RGB in, spectral OpenEXR out):");
-  ap.arg("-o OUTPUT")
-      .help(
-          "The spectral OpenEXR to write (through a temporary file, renamed when complete); "
-          "with --color or --plot-pixel: the plot (.png, .svg, ...)")
-      .action(store(opt.output));
-  ap.arg("--format FORMAT")
-      .help("Samples: half (default) or float; with --color: csv (default) or json")
-      .action(store(opt.format));
-  ap.arg("--compression NAME")
-      .help(
-          "OpenEXR compression: zip (default), piz, zips, rle, pxr24, b44, b44a, dwaa, dwab, none")
-      .action(store(opt.compression));
-  ap.arg("--tile N").help("Write N x N tiles instead of scanlines").action(store(opt.tile));
-  ap.arg("--method METHOD")
-      .help(
-          "table (default: exact interpolation of cached node spectra) or exact (solve every "
-          "distinct colour; slow, for comparison)")
-      .action(store(opt.method));
-  ap.arg("--cache DIR")
-      .help("Keep the node table in DIR across runs (keyed by every setting it depends on)")
-      .action(store(opt.cache));
-  ap.arg("--threads N").help("Threads (default: all cores)").action(store(opt.threads));
-  ap.arg("--report FILE")
-      .help("Write a JSON report: colour space, counts by kind, errors, cache, timings")
-      .action(store(opt.report));
-  ap.arg("-v")
-      .help("Verbose: stages, colour-space choice, cache statistics")
-      .action([&](OIIO::cspan<const char*>) { opt.verbosity = 2; });
-  ap.arg("-q")
-      .help("Quiet: no progress, summary or warnings")
-      .action([&](OIIO::cspan<const char*>) { opt.verbosity = 0; });
-
-  ap.separator("Spectral to RGB:");
-  ap.arg("--to-rgb FILE")
-      .help(
-          "Integrate a spectral OpenEXR (S0 or T channels, any writer) back to RGB(A) in "
-          "--colorspace (default Linear Rec.709), reflective files under --illuminant; "
-          "write it with -o")
-      .action(store(opt.to_rgb));
-
-  ap.separator("Single colours:");
-  ap.arg("--color R,G,B")
-      .help("Spectralize one colour (repeatable); prints the spectrum to stdout")
-      .action([&](OIIO::cspan<const char*> args) { opt.colors.emplace_back(args[1]); });
-
-  ap.separator("Plots (-o PLOT.png, .svg or any image format; 1000x600):");
-  ap.arg("--plot-pixel X,Y")
-      .help(
-          "Plot the spectrum of pixel X,Y (0-based, top-left) of a spectral EXR given as input "
-          "(repeatable); with --color R,G,B, -o PLOT.png|.svg draws the colours' spectra instead "
-          "of printing them")
-      .action([&](OIIO::cspan<const char*> args) { opt.plot_pixels.emplace_back(args[1]); });
-
-  ap.separator("Colour:");
-  ap.arg("--colorspace NAME")
-      .help(
-          "Input colour space, a name or alias of the OCIO config (default: Linear Rec.709 (sRGB))")
-      .action(store(opt.colorspace));
-  ap.arg("--config FILE")
-      .help("OCIO config to use (default: $OCIO, else the config shipped with spectralize)")
-      .action(store(opt.config));
-
-  ap.separator("Spectrum:");
-  ap.arg("--mode MODE")
-      .help(
-          "emission (lights, HDR), reflectance (surfaces, rho in [0,1]) or, for images, auto "
-          "(default: float data emission, integer data reflectance; --color: emission)")
-      .action(store(opt.mode));
-  ap.arg("--wavelengths GRID")
-      .help("Sampling grid START:END:STEP in nm inside 360..830, step >= 0.5 (default 380:780:5)")
-      .action(store(opt.wavelengths));
-  ap.arg("--observer NAME")
-      .help("CIE standard observer: cie1931 (2 deg, default) or cie1964 (10 deg)")
-      .action(store(opt.observer));
-  ap.arg("--illuminant NAME")
-      .help(
-          "Reference illuminant of reflectances: D65 (default), D50, A, C, E, D<nn>, FL1..FL12, "
-          "...")
-      .action(store(opt.illuminant));
-  ap.arg("--filter K")
-      .help(
-          "Edge-peak filter: drop the K partial solutions with the largest density; a fraction "
-          "(0.7), a percentage (70%), a count (1000) or none (default 0.7)")
-      .action(store(opt.filter));
-  ap.arg("--model NAME")
-      .help(
-          "How the spectrum is chosen among the exact ones: paper (average of the admissible "
-          "partial solutions, default) or smooth (least slope and curvature, within the bounds)")
-      .action(store(opt.model));
-  ap.arg("--emission-basis NAME")
-      .help(
-          "Emission only: flat (default) or an illuminant (D65, A, ...): spectrum = E x s with "
-          "s >= 0, white balanced to E, so white light becomes E itself")
-      .action(store(opt.emission_basis));
-
-  if (ap.parse_args(argc, argv) < 0) {
-    std::string err = ap.geterror();
-    std::fprintf(stderr, "spectralize ERROR: %s\nRun 'spectralize --help' for the options.\n",
-                 err.c_str());
-    return kExitUsage;
-  }
-
-  if (help) {
-    ap.print_help();
-    return kExitOk;
-  }
+  bool help = false, version = false;
   try {
-    if (!opt.plot_pixels.empty()) return run_plot_pixel(opt);
-    if (int(!opt.colors.empty()) + int(!opt.inputs.empty()) + int(!opt.to_rgb.empty()) > 1)
-      throw UsageError{"give one of --color, --to-rgb or an input image"};
-    if (!opt.to_rgb.empty()) return run_to_rgb(opt);
-    if (!opt.colors.empty()) return run_color(opt);
-    if (!opt.inputs.empty() || !opt.output.empty()) return run_image(opt);
-    std::fprintf(stderr,
-                 "spectralize ERROR: nothing to do: give INPUT -o OUTPUT.exr, or --color R,G,B\n"
-                 "Run 'spectralize --help' for the options.\n");
-    return kExitUsage;
+    parse(argc, argv, opt, help, version);
+    if (help) {
+      print_help();
+      check_stdout();
+      return kExitOk;
+    }
+    if (version) {
+      fmt::print("spectralize " SPECTRALIZE_VERSION "\n");
+      check_stdout();
+      return kExitOk;
+    }
+    int status = kExitOk;
+    switch (opt.command) {
+      case kPlotPixel:
+        status = run_plot_pixel(opt);
+        break;
+      case kPlotColor:
+        status = run_plot_color(opt);
+        break;
+      case kColor:
+        status = run_color(opt);
+        break;
+      case kToRgb:
+        status = run_to_rgb(opt);
+        break;
+      default:
+        status = run_image(opt);
+        break;
+    }
+    check_stdout();
+    return status;
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "spectralize ERROR: %s\n", e.message.c_str());
+    std::fprintf(stderr, "spectralize ERROR: %s\nRun 'spectralize --help' for the options.\n",
+                 e.message.c_str());
     return kExitUsage;
-  } catch (const Error& e) {
-    std::fprintf(stderr, "spectralize ERROR: %s\n", e.what());
-    return kExitFailure;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "spectralize ERROR: %s\n", e.what());
     return kExitFailure;

@@ -1,9 +1,12 @@
 #pragma once
-// The command line of spectralize, parsed but not yet validated: each command checks the values
-// it uses and reports the flag and value that are wrong (exit status 2).
+// The command line of spectralize, parsed: which command, its inputs and outputs, and the
+// settings (validated by the schema, io/settings.h). Each mistake is a UsageError (exit 2).
 
+#include <set>
 #include <string>
 #include <vector>
+
+#include "io/settings.h"
 
 namespace spectralize::tool {
 
@@ -11,28 +14,16 @@ namespace spectralize::tool {
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 
 struct Options {
-  std::vector<std::string> colors;        // --color R,G,B (repeatable)
-  std::vector<std::string> inputs;        // positional: the image to spectralize
-  std::string to_rgb;                     // --to-rgb IN.exr: a spectral EXR to RGB
-  std::vector<std::string> plot_pixels;   // --plot-pixel X,Y (repeatable): plot IN.exr's pixel
-  std::string output;                     // -o OUTPUT.exr
-  std::string colorspace;                 // --colorspace NAME (empty: default / detected)
-  std::string mode;                       // --mode (empty: emission for --color, auto for images)
-  std::string wavelengths = "380:780:5";  // --wavelengths START:END:STEP
-  std::string observer = "cie1931";       // --observer
-  std::string illuminant = "D65";         // --illuminant
-  std::string filter;                     // --filter K (empty: the default)
-  std::string model = "paper";            // --model paper|smooth
-  std::string emission_basis = "flat";    // --emission-basis flat|<illuminant>
-  std::string format;                     // --format: csv|json (--color), half|float (images)
-  std::string compression = "zip";        // --compression
-  std::string tile;                       // --tile N (empty: scanlines)
-  std::string method = "table";           // --method table|exact
-  std::string cache;                      // --cache DIR
-  std::string threads;                    // --threads N (empty: all cores)
-  std::string report;                     // --report FILE.json
-  std::string config;                     // --config FILE
-  int verbosity = 1;                      // -q: 0, default 1, -v: 2
+  Command command = kImage;
+  Settings settings;
+  std::vector<std::string> colors;       // --color R,G,B (repeatable)
+  std::vector<std::string> inputs;       // positional: the image to spectralize
+  std::string to_rgb;                    // --to-rgb IN.exr
+  std::vector<std::string> plot_pixels;  // --plot-pixel X,Y (repeatable)
+  std::string output;                    // -o
+  std::string report;                    // --report FILE.json
+  int verbosity = 1;                     // -q: 0, default 1, -v: 2
+  std::set<std::string> given;           // every flag given, for applicability checks
 };
 
 /// A command-line mistake: printed as "spectralize ERROR: ..." with exit status 2.
@@ -40,8 +31,8 @@ struct UsageError {
   std::string message;
 };
 
-/// Runs `spectralize --color ...`: prints spectra to stdout, warnings to stderr. Returns the exit
-/// status; throws UsageError for malformed values. Cost: one exact solve per colour.
+/// Runs `spectralize --color ...`: prints spectra (CSV or JSON) to stdout or to -o FILE.
+/// Returns the exit status; throws UsageError / Error. Cost: one exact solve per colour.
 int run_color(const Options& options);
 
 /// Runs `spectralize --to-rgb IN.exr -o OUT.exr ...`: a spectral OpenEXR (any writer's) back to
@@ -49,8 +40,7 @@ int run_color(const Options& options);
 int run_to_rgb(const Options& options);
 
 /// Runs `spectralize INPUT -o OUTPUT.exr ...`: the image job, its console summary, progress and
-/// --report. Returns the exit status; throws UsageError for malformed values and Error when the
-/// job fails. Cost: O(pixels x bands).
+/// --report. Returns the exit status; throws UsageError / Error. Cost: O(pixels x bands).
 int run_image(const Options& options);
 
 /// Runs `spectralize --color R,G,B ... -o PLOT.png|.svg`: the spectra drawn as a plot (see
@@ -59,8 +49,8 @@ int run_image(const Options& options);
 int run_plot_color(const Options& options);
 
 /// Runs `spectralize --plot-pixel X,Y IN.exr -o PLOT.png|.svg`: the spectrum of a pixel of any
-/// spectral EXR. Returns the exit status; throws UsageError / Error. Cost: reading one row per
-/// pixel plus the drawing.
+/// spectral EXR. Returns the exit status; throws UsageError / Error. Cost: reading the rows of
+/// the pixels plus the drawing.
 int run_plot_pixel(const Options& options);
 
 }  // namespace spectralize::tool

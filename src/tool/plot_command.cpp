@@ -15,7 +15,9 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "io/image_input.h"
 #include "io/rgb_from_spectral.h"
+#include "io/safe_output.h"
 #include "io/spectrum_plot.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -30,12 +32,24 @@ namespace {
 // Colours brighter than display white (HDR lights) are scaled down first, by the factor that
 // brings the input's largest linear Rec.709 component to 1, the same for both swatches of a
 // curve so they stay comparable.
+// The first of `names` the config knows (the shipped config has them all).
+std::string pick_space(const ColourSpaces& spaces, std::initializer_list<std::string> names) {
+  for (const auto& name : names) {
+    try {
+      return spaces.resolve(name);
+    } catch (const Error&) {
+    }
+  }
+  throw Error("the OCIO config '" + spaces.origin() + "' has no '" + *names.begin() +
+              "' colour space for the plot's swatches");
+}
+
 class SwatchColours {
  public:
   explicit SwatchColours(const ColourSpaces& spaces)
-      : display_(spaces.from_xyz(
-            pick(spaces, {"sRGB - Texture", "sRGB", "srgb_tx", "sRGB Encoded Rec.709 (sRGB)"}))),
-        linear_(spaces.from_xyz(pick(
+      : display_(spaces.from_xyz(pick_space(
+            spaces, {"sRGB - Texture", "sRGB", "srgb_tx", "sRGB Encoded Rec.709 (sRGB)"}))),
+        linear_(spaces.from_xyz(pick_space(
             spaces, {std::string(kDefaultColourSpace), "lin_srgb", "Utility - Linear - sRGB"}))) {}
 
   /// The factor (<= 1) that fits `xyz` into the display's range. Cost: O(1) + OCIO.
@@ -56,17 +70,6 @@ class SwatchColours {
   }
 
  private:
-  // The first of `names` the config knows (the shipped config has them all).
-  static std::string pick(const ColourSpaces& spaces, std::initializer_list<std::string> names) {
-    for (const auto& name : names) {
-      try {
-        return spaces.resolve(name);
-      } catch (const Error&) {
-      }
-    }
-    throw Error("the OCIO config '" + spaces.origin() + "' has no '" + *names.begin() +
-                "' colour space for the plot's swatches");
-  }
   ColourTransform display_, linear_;
 };
 
@@ -78,23 +81,19 @@ void check_plot_output(const Options& opt, const char* command) {
     throw UsageError{fmt::format(
         "-o '{}': a plot is written as .svg or as an image OpenImageIO writes (.png, .jpg, .tif, "
         ".exr, ...)",
-        opt.output)};
-  if (!opt.format.empty())
-    throw UsageError{
-        fmt::format("--format '{}': a plot's format follows the extension of -o ('{}')", opt.format,
-                    opt.output)};
+        clip(opt.output))};
 }
 
-// The settings line of a --color plot: colour space, mode, model and the spectral settings.
-std::string settings_line(const std::string& space, const Spectralizer& sp) {
-  const SpectralizerSettings& s = sp.settings();
-  std::string line = space + " | " + std::string(to_string(s.mode));
-  if (s.mode == Mode::reflectance) line += " under " + sp.illuminant()->name;
-  line += " | model " + std::string(to_string(s.model));
-  if (s.mode == Mode::emission && s.emission_basis != "flat")
-    line += " | basis " + s.emission_basis;
-  line += " | " + s.grid.to_string() + " nm | " + sp.observer().name;
-  if (s.model == Model::paper) line += " | filter " + s.filter.to_string();
+// The settings line of a --color plot: colour space, then the settings that mattered (from the
+// schema), e.g. "sRGB - Texture | reflectance | illuminant D65 | model paper | filter auto".
+std::string settings_line(const std::string& space, const Options& opt, const Spectralizer& sp) {
+  Settings s = opt.settings;
+  s.spectral = sp.settings();
+  std::string line = space;
+  for (const auto& [key, value] : describe_settings(s, kPlotColor)) {
+    if (key == "colorspace" || key == "config") continue;
+    line += " | " + (key == "mode" ? value : key + " " + value);
+  }
   return line;
 }
 
@@ -136,8 +135,7 @@ int run_plot_color(const Options& opt) {
   Spectralizer spectralizer(settings);
   // The spectrum's XYZ is in the target's terms; a reflectance's target is white balanced to
   // the reference illuminant, so undo that to compare with the input (emission: factor 1).
-  const Xyz ref = spectralizer.reference_white();
-  const Xyz unbalance{kWhiteD65.X / ref.X, kWhiteD65.Y / ref.Y, kWhiteD65.Z / ref.Z};
+  const Xyz unbalance = spectralizer.unbalance();
 
   SpectrumPlot plot;
   plot.y_label =
@@ -162,16 +160,19 @@ int run_plot_color(const Options& opt) {
     scaled = scaled || k < 1;
     curve.swatches = {swatch(r.input, k), swatch(hadamard(r.xyz, unbalance), k)};
     plot.curves.push_back(std::move(curve));
-    // L and K (admissible and dropped partial solutions) exist for the paper's model only.
-    results.push_back(fmt::format(
-        "{} | relative XYZ error {:.2g}{}{}", to_string(r.status), r.relative_error,
-        settings.model == Model::paper ? fmt::format(" | L = {}, K = {}", r.admissible, r.dropped)
-                                       : "",
-        r.bounded ? " | bounded" : ""));
+    // The model's own details (the paper model: L and K, and whether the bound acted).
+    std::string details;
+    for (const ModelDetail& d : r.details)
+      if (!d.boolean)
+        details += fmt::format(" | {} {}", d.name, d.value);
+      else if (d.value != 0)
+        details += " | " + d.name;
+    results.push_back(fmt::format("{} | relative XYZ error {:.2g}{}", to_string(r.status),
+                                  r.relative_error, details));
   }
   plot.title = {colours.size() == 1 ? fmt::format("Spectrum of RGB ({})", colours[0].text)
                                     : fmt::format("Spectra of {} colours", colours.size()),
-                settings_line(to_xyz.source(), spectralizer)};
+                settings_line(to_xyz.source(), opt, spectralizer)};
   if (colours.size() == 1) plot.title.push_back(results[0]);
   plot.notes.push_back("swatches: display sRGB via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
@@ -196,28 +197,21 @@ int run_plot_pixel(const Options& opt) {
                                  kMaxPlotCurves, opt.plot_pixels.size())};
   std::vector<std::pair<int, int>> pixels;
   for (const auto& text : opt.plot_pixels) pixels.push_back(parse_pixel(text));
-  const std::string observer =
-      flag_value("--observer", [&] { return Observer::get(opt.observer).name; });
-  const std::string illuminant =
-      flag_value("--illuminant", [&] { return Illuminant::get(opt.illuminant).name; });
+  const std::string& observer = opt.settings.spectral.observer;
+  const std::string& illuminant = opt.settings.spectral.illuminant;
   const ColourSpaces spaces = load_config(opt);
   const SwatchColours swatch(spaces);
 
-  // Open the file; never write over it.
+  // Open the file (scanline, tiled or MIP-mapped: level 0); never write over it.
   const std::string& file = opt.inputs[0];
-  std::error_code ec;
-  if (!fs::exists(file, ec)) throw Error("'" + file + "': no such file");
-  if (fs::exists(opt.output, ec) && fs::equivalent(opt.output, file, ec))
-    throw Error("'" + opt.output + "': is the input file; refusing to overwrite it");
-  auto in = OIIO::ImageInput::open(file);
-  if (!in) {
-    const std::string why = OIIO::geterror();
-    throw Error("'" + file + "': cannot read: " + (why.empty() ? "unknown format" : why));
-  }
-  const OIIO::ImageSpec& spec = in->spec();
+  ImageReader in(file, 4);
+  const OIIO::ImageSpec& spec = in.spec();
   const SpectralLayoutInfo layout = analyse_spectral_layout(spec, file);
-  const std::string linear = spaces.resolve(kDefaultColourSpace);
-  const RgbFromSpectral to_rgb(layout, RgbSettings{linear, observer, illuminant}, spaces);
+  Settings rgb_settings = opt.settings;
+  rgb_settings.colorspace =
+      pick_space(spaces, {std::string(kDefaultColourSpace), "lin_srgb", "Utility - Linear - sRGB"});
+  const std::string& linear = rgb_settings.colorspace;
+  const RgbFromSpectral to_rgb(layout, rgb_settings, spaces);
   const ColourTransform rgb_to_xyz = spaces.to_xyz(linear);
   const int r_ch = spec.channelindex("R"), g_ch = spec.channelindex("G"),
             b_ch = spec.channelindex("B");
@@ -239,10 +233,8 @@ int run_plot_pixel(const Options& opt) {
           "--plot-pixel '{}': outside '{}', which is {}x{} (X 0..{}, Y "
           "0..{})",
           opt.plot_pixels[i], file, spec.width, spec.height, spec.width - 1, spec.height - 1)};
-    // One row is read (OIIO reads tiled files too), not the whole image.
-    if (!in->read_scanlines(0, 0, spec.y + y, spec.y + y + 1, 0, 0, spec.nchannels, OIIO::TypeFloat,
-                            row.data()))
-      throw Error(fmt::format("'{}': cannot read row {}: {}", file, y, in->geterror()));
+    // One row is read (a row of tiles for tiled files), not the whole image.
+    in.read_rows(y, y + 1, row.data());
     const float* px = row.data() + static_cast<std::size_t>(x) * spec.nchannels;
     PlotCurve curve;
     curve.label = fmt::format("pixel ({}, {})", x, y);
@@ -262,7 +254,7 @@ int run_plot_pixel(const Options& opt) {
     // The swatches: the file's own RGB (linear Rec.709 by EXR convention) and the spectrum
     // integrated as --to-rgb does.
     float rgb[4] = {0, 0, 0, 0};
-    to_rgb.convert(px, spec.nchannels, 1, rgb);
+    to_rgb.convert(px, spec.nchannels, 1, rgb, false);
     const Xyz from_spectrum = rgb_to_xyz(rgb[0], rgb[1], rgb[2]);
     const Xyz from_file = has_rgb ? rgb_to_xyz(px[r_ch], px[g_ch], px[b_ch]) : from_spectrum;
     // One exposure for both (the brighter fits), so a preview on another scale than its
@@ -286,8 +278,7 @@ int run_plot_pixel(const Options& opt) {
                                    layout.emissive ? "" : " under " + illuminant));
   plot.notes.push_back("swatches: display sRGB via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
-  in->close();
-  write_plot(plot, opt.output);
+  write_plot(plot, opt.output, std::span<const std::string>(&file, 1));
   report(opt, plot);
   return kExitOk;
 }

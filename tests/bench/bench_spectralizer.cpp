@@ -102,7 +102,7 @@ void BM_FullSolve(benchmark::State& state) {
   SpectralizerSettings s;
   s.grid = grid_for(static_cast<int>(state.range(0)));
   s.mode = state.range(1) ? Mode::reflectance : Mode::emission;
-  s.model = state.range(2) ? Model::smooth : Model::paper;
+  s.model = state.range(2) ? "smooth" : "paper";
   Spectralizer sp(s);
   std::size_t i = 1;  // skip the 6000-lm light in reflectance runs' cycle start
   for (auto _ : state) {

@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "core/colorimetry.h"
-#include "core/colour_difference.h"
 #include "core/sample_weights.h"
 #include "core/smooth_solver.h"
 #include "core/spectralizer.h"
+#include "figures/colour_difference.h"
 
 using namespace spectralize;
 
@@ -44,7 +44,7 @@ double percentile(std::vector<double> v, double p) {
 
 struct Method {
   std::string name;
-  Model model;
+  std::string model;
   double tau_nm;     // curvature length
   bool log = false;  // roughness of log(rho) instead of rho (study only)
 };
@@ -108,15 +108,15 @@ int main(int argc, char** argv) {
   }
   const Illuminant a = Illuminant::get("A"), fl11 = Illuminant::get("FL11");
   const SampleWeights under_a(grid, obs, &a), under_fl11(grid, obs, &fl11);
-  std::vector<Method> methods = {{"paper (auto filter)", Model::paper, 0}};
+  std::vector<Method> methods = {{"paper (auto filter)", "paper", 0}};
   for (double tau : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 80.0, 100.0})
     methods.push_back(
-        {"smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm", Model::smooth, tau});
+        {"smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm", "smooth", tau});
   // Curvature alone (slope weight 1e-6 of it): tau = 10 um.
-  methods.push_back({"smooth, curvature only", Model::smooth, 1e4});
+  methods.push_back({"smooth, curvature only", "smooth", 1e4});
   for (double tau : {0.0, 20.0, 50.0})
-    methods.push_back({"log smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm",
-                       Model::smooth, tau, true});
+    methods.push_back(
+        {"log smooth, tau " + std::to_string(static_cast<int>(tau)) + " nm", "smooth", tau, true});
   std::printf("%zu patches, grid %s, CIE 1931; dE2000 median / p95 / max\n", patches.size(),
               grid.to_string().c_str());
   std::printf("%-28s | %-20s | %-20s | %-8s | %-9s | %s\n", "method", "under A", "under FL11",

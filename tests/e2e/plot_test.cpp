@@ -279,7 +279,7 @@ TEST(PlotColor, SeveralColoursGiveDistinctCurvesAndALegend) {
 }
 
 // Truth: the extension decides: JPEG, TIFF and OpenEXR plots are images of the documented size;
-// a non-image -o (.csv) keeps the old behaviour, the spectrum on stdout.
+// a non-image -o (.csv, .json) receives the printed spectrum.
 TEST(PlotColor, ExtensionDecidesBetweenPlotAndPrintedSpectrum) {
   Scratch dir("plot");
   for (const char* name : {"p.jpg", "p.tif", "p.exr"}) {
@@ -306,9 +306,13 @@ TEST(PlotColor, ExtensionDecidesBetweenPlotAndPrintedSpectrum) {
         worst = std::max(worst, std::abs(lin - exr.at(x, y, c)));
       }
   EXPECT_LE(worst, 0.01);
+  // A non-image -o writes the printed spectrum to that file (CSV, or JSON for .json).
   auto r = run("--color 0.5,0.2,0.1 -o " + dir / "s.csv");
   EXPECT_EQ(r.exit_code, 0);
-  EXPECT_EQ(r.out.rfind("wavelength_nm,value\n", 0), 0u) << r.out.substr(0, 80);
+  EXPECT_TRUE(r.out.empty()) << r.out.substr(0, 80);
+  EXPECT_EQ(e2e::slurp(dir / "s.csv").rfind("wavelength_nm,value\n", 0), 0u);
+  ASSERT_EQ(run("--color 0.5,0.2,0.1 -o " + dir / "s.json").exit_code, 0);
+  EXPECT_EQ(e2e::slurp(dir / "s.json").rfind("{", 0), 0u);
 }
 
 // --- Pixels of spectral EXRs ---

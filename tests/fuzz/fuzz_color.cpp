@@ -16,17 +16,17 @@ using namespace spectralize;
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   // Both modes, both models (the smooth model's quadratic programme meets the same inputs).
-  auto make = [](Mode mode, Model model) {
+  auto make = [](Mode mode, const char* model) {
     SpectralizerSettings s;
     s.grid = WavelengthGrid(380, 780, 10);
     s.mode = mode;
     s.model = model;
     return Spectralizer(s);
   };
-  static const Spectralizer emission = make(Mode::emission, Model::paper);
-  static const Spectralizer reflectance = make(Mode::reflectance, Model::paper);
-  static const Spectralizer smooth_emission = make(Mode::emission, Model::smooth);
-  static const Spectralizer smooth_reflectance = make(Mode::reflectance, Model::smooth);
+  static const Spectralizer emission = make(Mode::emission, "paper");
+  static const Spectralizer reflectance = make(Mode::reflectance, "paper");
+  static const Spectralizer smooth_emission = make(Mode::emission, "smooth");
+  static const Spectralizer smooth_reflectance = make(Mode::reflectance, "smooth");
   tool::Rgb rgb;
   try {
     rgb = tool::parse_rgb(text);

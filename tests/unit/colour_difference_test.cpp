@@ -3,7 +3,7 @@
 // mathematical observations", Color Res. Appl. 30 (2005), Table 1 (typed in from the paper; they
 // are the independent check), and CIELAB of a few XYZ values worked out by hand from CIE 015.
 
-#include "core/colour_difference.h"
+#include "figures/colour_difference.h"
 
 #include <gtest/gtest.h>
 

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "core/colour_difference.h"
 #include "core/smooth_solver.h"
 #include "core/spectralizer.h"
+#include "figures/colour_difference.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 
@@ -30,7 +30,7 @@ Spectralizer make_smooth(Mode mode, const char* grid = "380:780:5", const char* 
   SpectralizerSettings s;
   s.grid = WavelengthGrid::parse(grid);
   s.mode = mode;
-  s.model = Model::smooth;
+  s.model = "smooth";
   s.emission_basis = basis;
   return Spectralizer(s);
 }
@@ -183,7 +183,7 @@ TEST(SmoothModel, WhiteLightWithD65BasisIsTheD65Table) {
   // table's (eq. 6): the same luminance, and xy within 1e-4 of the space's D65 (0.3127,
   // 0.3290), the 4-digit rounding of the table's chromaticity.
   const Illuminant d65 = Illuminant::get("D65");
-  for (Model model : {Model::paper, Model::smooth}) {
+  for (std::string model : {"paper", "smooth"}) {
     SpectralizerSettings s;
     s.model = model;
     s.emission_basis = "D65";
@@ -196,7 +196,7 @@ TEST(SmoothModel, WhiteLightWithD65BasisIsTheD65Table) {
         table[i] = d65.spd[static_cast<std::size_t>(sp.settings().grid[i] - 360.0)];
       const double scale = r.values[36] / table[36];  // 560 nm
       for (double& v : table) v *= scale;
-      EXPECT_LE(rel_err(r.values, table), 1e-9) << to_string(model) << " k " << k;
+      EXPECT_LE(rel_err(r.values, table), 1e-9) << model << " k " << k;
       const Xyz got =
           reference_xyz(sp.settings().grid, r.values, Observer::get("cie1931"), nullptr);
       EXPECT_NEAR(got.Y, k, 1e-9 * k);
@@ -210,15 +210,15 @@ TEST(SmoothModel, WhiteLightWithD65BasisIsTheD65Table) {
 TEST(SmoothModel, IlluminantBasisKeepsEveryPromise) {
   // With a basis E, spectrum = E s, s >= 0: exact and non-negative for random colours of
   // every space, both models; lights near D65 stay close to D65 in shape.
-  for (Model model : {Model::paper, Model::smooth}) {
+  for (std::string model : {"paper", "smooth"}) {
     for (const char* basis : {"D65", "A", "FL2"}) {
       SpectralizerSettings s;
-      s.grid = WavelengthGrid::parse(model == Model::paper ? "380:780:10" : "380:780:5");
+      s.grid = WavelengthGrid::parse(model == "paper" ? "380:780:10" : "380:780:5");
       s.model = model;
       s.emission_basis = basis;
       const Spectralizer sp(s);
       for (const Space& space : spaces()) {
-        SCOPED_TRACE(std::string(to_string(model)) + " basis " + basis + " " + space.name);
+        SCOPED_TRACE(model + " basis " + basis + " " + space.name);
         const Tally t = run_random(sp, space, 500, 11);
         EXPECT_EQ(t.other, 0u);
       }

@@ -22,7 +22,7 @@ namespace spectralize::test {
 
 inline Spectralizer make(Mode mode, const char* grid = "380:780:5",
                          const char* observer = "cie1931", const char* illuminant = "D65",
-                         Model model = Model::paper) {
+                         std::string model = "paper") {
   SpectralizerSettings s;
   s.model = model;
   s.grid = WavelengthGrid::parse(grid);

@@ -1,4 +1,4 @@
-#include "core/colour_difference.h"
+#include "figures/colour_difference.h"
 
 #include <cmath>
 #include <numbers>

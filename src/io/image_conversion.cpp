@@ -1,0 +1,122 @@
+#include "io/image_conversion.h"
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "io/colour_space.h"
+#include "io/input_interpretation.h"
+#include "io/output_metadata.h"
+#include "io/spectral_converter.h"
+#include "io/spectral_image_layout.h"
+#include "io/table_cache.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+
+struct ImageConversion::Parts {
+  std::unique_ptr<Spectralizer> spectralizer;
+  std::unique_ptr<SpectralTable> table;
+  std::unique_ptr<SpectralImageLayout> layout;
+  std::unique_ptr<SpectralConverter> converter;
+  std::string cache_key;
+};
+
+ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
+                                 const std::string& format_name, bool straight_alpha,
+                                 const Settings& settings, const LogFn& log)
+    : parts_(std::make_unique<Parts>()) {
+  ImageReport& rep = report_;
+  auto warn = [&](const std::string& message) {
+    rep.warnings.push_back(message);
+    log(0, message);
+  };
+  rep.input = input;
+  rep.input_format = format_name;
+  rep.width = spec.width;
+  rep.height = spec.height;
+  rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
+  rep.settings = settings;
+  const ColourSpaces spaces = ColourSpaces::load(settings.config);
+  const InputInterpretation in = interpret_input(input, spec, settings, spaces);
+  for (const std::string& w : in.warnings) warn(w);
+  rep.colorspace = in.colorspace;
+  rep.colorspace_reason = in.colorspace_reason;
+  rep.mode_reason = in.mode_reason;
+  rep.alpha = in.channels.alpha >= 0;
+  rep.straight_alpha = straight_alpha;
+  Settings& s = rep.settings;
+  s.spectral.mode = in.mode;
+  rep.bands = static_cast<int>(s.spectral.grid.size());
+  log(1, "'" + input + "': " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+             ", " + std::to_string(spec.nchannels) + " channels, " + spec.format.c_str() + " (" +
+             format_name + "); colour space '" + in.colorspace + "' (" + in.colorspace_reason +
+             "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
+
+  Parts& p = *parts_;
+  p.spectralizer = std::make_unique<Spectralizer>(s.spectral);
+  p.table = std::make_unique<SpectralTable>(*p.spectralizer, s.method);
+  // The persistent node cache, keyed by everything the nodes depend on. An unusable cache is
+  // reported and bypassed or rebuilt, never fatal and never trusted.
+  if (!s.cache_dir.empty() && s.method == SpectralTable::Method::table) {
+    std::error_code ec;
+    fs::create_directories(s.cache_dir, ec);
+    if (!fs::is_directory(s.cache_dir, ec)) {
+      warn("--cache '" + s.cache_dir +
+           "': not a folder that can be created; running without a "
+           "persistent cache");
+    } else {
+      p.cache_key = table_cache_key(s, p.table->layout());
+      rep.cache_file = table_cache_file(s.cache_dir, p.cache_key);
+      const std::string why = load_table_cache(*p.table, rep.cache_file, p.cache_key);
+      if (!why.empty()) {
+        rep.cache_status = "rebuilt: " + why;
+        warn("cache '" + rep.cache_file + "' ignored and rebuilt: " + why);
+      } else {
+        rep.cache_status = p.table->stats().nodes_loaded > 0 ? "loaded" : "new";
+      }
+      log(2, "cache '" + rep.cache_file + "': " + rep.cache_status + ", " +
+                 std::to_string(p.table->stats().nodes_loaded) + " nodes");
+    }
+  }
+
+  // The output: previews in the config's scene-linear space (the shipped config: Linear
+  // Rec.709), then alpha and the bands.
+  std::string date_warning;
+  const std::string date_time = output_date_time(date_warning);
+  if (!date_warning.empty()) warn(date_warning);
+  rep.preview_colorspace = default_colour_space(spaces, true).first;
+  p.layout = spectral_exr_layout(
+      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time});
+  p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
+      *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
+      spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
+      s.threads});
+}
+
+ImageConversion::~ImageConversion() = default;
+
+const OIIO::ImageSpec& ImageConversion::output_spec() const {
+  return parts_->layout->spec();
+}
+
+void ImageConversion::convert(const float* in, std::size_t n, float* out) {
+  parts_->converter->convert(in, n, out);
+}
+
+const ImageReport& ImageConversion::finish(const LogFn& log) {
+  Parts& p = *parts_;
+  report_.counts = p.converter->counts();
+  report_.cache = p.table->stats();
+  if (!report_.cache_file.empty() && p.table->dirty()) {
+    const std::string why = save_table_cache(*p.table, report_.cache_file, p.cache_key);
+    if (!why.empty()) {
+      const std::string message = "cache '" + report_.cache_file + "' not saved: " + why;
+      report_.warnings.push_back(message);
+      log(0, message);
+    }
+  }
+  return report_;
+}
+
+}  // namespace spectralize

@@ -1,0 +1,62 @@
+#pragma once
+// What an input image is (docs/DESIGN.md §9): which channels are colour and which is alpha, its
+// colour space and its mode, each with the reason, never a silent guess. Metadata the config
+// cannot honour (an ICC profile or a PNG gamma without a matching space) is named in a warning
+// together with the space assumed instead.
+
+#include <OpenImageIO/imageio.h>
+
+#include <string>
+#include <vector>
+
+#include "core/spectralizer.h"
+#include "io/colour_space.h"
+#include "io/settings.h"
+
+namespace spectralize {
+
+/// The channels of a colour image.
+struct ChannelRoles {
+  std::vector<int> colour;           // R, G, B (by name), or one channel (grey)
+  int alpha = -1;                    // "A" (or OIIO's alpha channel), -1 for none
+  std::vector<std::string> ignored;  // any other channels (e.g. Z), named in a warning
+  /// True for a single grey channel (replicated to R = G = B). Cost: O(1).
+  bool grey() const { return colour.size() == 1; }
+};
+
+struct InputInterpretation {
+  ChannelRoles channels;
+  std::string colorspace, colorspace_reason;
+  Mode mode = Mode::emission;
+  std::string mode_reason;
+  std::vector<std::string> warnings;  // for people, each naming the file
+};
+
+/// The colour and alpha channels of `spec`: R, G, B (any order, optionally A), or a single grey
+/// channel (Y, or the only channel), optionally with A. Throws Error naming `file` for an
+/// already spectral image, a lone named layer (diffuse.R, ...), two colour channels, or any
+/// other set that is not colour. Cost: O(channels).
+ChannelRoles colour_channels(const OIIO::ImageSpec& spec, const std::string& file);
+
+/// The description in an ICC profile's 'desc' tag (v2 'desc' or v4 'mluc'), or "" if the
+/// profile has none or is malformed. Never throws. Cost: O(profile).
+std::string icc_description(const unsigned char* data, std::size_t size);
+
+/// Decides channels, colour space and mode of an input (`file` names it and anchors the
+/// config's file rules). Colour space, first that applies: the settings; the config's file
+/// rules; the file's metadata (EXR chromaticities, colorInteropID, ICC profile, PNG gamma,
+/// oiio:ColorSpace beyond OIIO's generic defaults); the config's role for the data type
+/// (scene_linear for float; matte_paint, color_picking, texture_paint for integers). Mode: the
+/// settings, else float data is light and integer data a texture. Throws Error (naming the
+/// file) when nothing applies or a named space is unknown. Cost: reading `file`'s first chunks
+/// for PNG metadata, a few OCIO look-ups.
+InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSpec& spec,
+                                    const Settings& settings, const ColourSpaces& spaces);
+
+/// The config's default space for float (scene_linear) or integer data (matte_paint,
+/// color_picking, texture_paint), with the role that gave it; throws Error naming the config
+/// when it has none of them. Cost: O(1).
+std::pair<std::string, std::string> default_colour_space(const ColourSpaces& spaces,
+                                                         bool float_data);
+
+}  // namespace spectralize

@@ -1,0 +1,341 @@
+#include "io/safe_output.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <climits>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+
+namespace {
+
+// --- The registry of temporary files, read by the signal handler ---
+// Fixed storage and atomics only: the handler may run on any thread at any moment, and may
+// call nothing but async-signal-safe functions (unlink, raise).
+constexpr int kSlots = 256;
+enum SlotState : int { kFree = 0, kFilling = 1, kActive = 2 };
+std::array<std::atomic<int>, kSlots> g_state{};
+std::array<std::array<char, PATH_MAX>, kSlots> g_paths{};
+
+int register_temporary(const std::string& path) {
+  if (path.size() + 1 > PATH_MAX) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = kFree;
+    if (g_state[i].compare_exchange_strong(expected, kFilling)) {
+      std::memcpy(g_paths[i].data(), path.c_str(), path.size() + 1);
+      g_state[i].store(kActive);
+      return i;
+    }
+  }
+  return -1;  // more than kSlots temporaries at once: still written, just not signal-cleaned
+}
+
+void release_temporary(int slot) {
+  if (slot >= 0) g_state[slot].store(kFree);
+}
+
+extern "C" void remove_temporaries_and_die(int sig) {
+  for (int i = 0; i < kSlots; ++i)
+    if (g_state[i].load() == kActive) ::unlink(g_paths[i].data());
+  // SA_RESETHAND restored the default action: the re-raised signal ends the process once this
+  // handler returns, with the signal's own status.
+  ::raise(sig);
+}
+
+mode_t g_umask = 022;
+
+std::string errno_text(int err) {
+  return std::strerror(err);
+}
+
+// The part of a file name that fits the temporary name within NAME_MAX, cut at a UTF-8
+// character boundary.
+std::string fitting_name(const std::string& name, std::size_t room) {
+  if (name.size() <= room) return name;
+  std::size_t n = room;
+  while (n > 0 && (static_cast<unsigned char>(name[n]) & 0xC0) == 0x80) --n;
+  return name.substr(0, n);
+}
+
+// /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N: the process's own descriptor N.
+int own_descriptor(const std::string& path) {
+  if (path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  for (const char* prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    const std::string p(prefix);
+    if (path.rfind(p, 0) == 0 && path.size() > p.size() &&
+        path.find_first_not_of("0123456789", p.size()) == std::string::npos && path.size() < 15)
+      return std::stoi(path.substr(p.size()));
+  }
+  return -1;
+}
+
+bool write_all(int fd, const char* data, std::size_t size, std::int64_t offset, int& err) {
+  while (size > 0) {
+    const ssize_t n = offset >= 0 ? ::pwrite(fd, data, size, offset) : ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      err = errno;
+      return false;
+    }
+    if (n == 0) {
+      err = ENOSPC;
+      return false;
+    }
+    data += n;
+    size -= static_cast<std::size_t>(n);
+    if (offset >= 0) offset += n;
+  }
+  return true;
+}
+
+}  // namespace
+
+void install_cleanup_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    g_umask = ::umask(0);
+    ::umask(g_umask);
+    struct sigaction sa {};
+    sa.sa_handler = remove_temporaries_and_die;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+    // Writes past `ulimit -f` or into a closed pipe fail with EFBIG / EPIPE, reported as errors
+    // that name the file, instead of killing the process half-way.
+    std::signal(SIGXFSZ, SIG_IGN);
+    std::signal(SIGPIPE, SIG_IGN);
+  });
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  struct stat sa {
+  }, sb{};
+  if (::stat(a.c_str(), &sa) != 0 || ::stat(b.c_str(), &sb) != 0) return false;
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+void check_readable_file(const std::string& path, std::string_view what) {
+  const std::string where = "'" + clip(path, 200) + "'" + (what.empty() ? "" : " (") +
+                            std::string(what) + (what.empty() ? "" : ")") + ": ";
+  if (path.empty()) throw Error(std::string(what) + ": an empty file name");
+  // O_NONBLOCK: opening a FIFO must not wait for a writer.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    throw Error(where + (err == ENOENT ? std::string("no such file") : errno_text(err)));
+  }
+  struct stat st {};
+  const int rc = ::fstat(fd, &st);
+  ::close(fd);
+  if (rc != 0) throw Error(where + errno_text(errno));
+  if (S_ISDIR(st.st_mode)) throw Error(where + "is a directory");
+  if (!S_ISREG(st.st_mode))
+    throw Error(where + "is not a regular file (" +
+                (S_ISFIFO(st.st_mode)   ? "a pipe"
+                 : S_ISCHR(st.st_mode)  ? "a character device"
+                 : S_ISBLK(st.st_mode)  ? "a block device"
+                 : S_ISSOCK(st.st_mode) ? "a socket"
+                                        : "not a file") +
+                ")");
+}
+
+std::string clip(std::string_view value, std::size_t limit) {
+  if (value.size() <= limit) return std::string(value);
+  std::size_t n = limit;
+  while (n > 0 && (static_cast<unsigned char>(value[n]) & 0xC0) == 0x80) --n;
+  return std::string(value.substr(0, n)) + "... (" + std::to_string(value.size()) + " bytes)";
+}
+
+// OpenImageIO writes through this proxy: every write goes to the temporary file's descriptor
+// and is checked; the first failure is kept for AtomicOutput::check() and commit().
+class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
+ public:
+  explicit Proxy(AtomicOutput& out) : IOProxy(out.path_, Write), out_(out) {}
+  const char* proxytype() const override { return "spectralize-checked"; }
+  void close() override {}  // commit() closes the descriptor
+  // Some writers read back what they wrote (libtiff rewrites its directory).
+  size_t read(void* buf, size_t size) override {
+    const size_t n = pread(buf, size, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override {
+    if (out_.kind_ == Kind::stream) return 0;
+    size_t got = 0;
+    while (got < size) {
+      const ssize_t n = ::pread(out_.fd_, static_cast<char*>(buf) + got, size - got,
+                                offset + static_cast<int64_t>(got));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      got += static_cast<size_t>(n);
+    }
+    return got;
+  }
+  size_t write(const void* buf, size_t size) override {
+    const size_t n = pwrite(buf, size, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
+  }
+  size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+    int err = 0;
+    if (!write_all(out_.fd_, static_cast<const char*>(buf), size,
+                   out_.kind_ == Kind::stream ? -1 : offset, err)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (out_.error_.empty()) out_.error_ = errno_text(err);
+      return 0;
+    }
+    std::int64_t end = offset + static_cast<std::int64_t>(size);
+    std::int64_t seen = end_.load();
+    while (end > seen && !end_.compare_exchange_weak(seen, end)) {
+    }
+    return size;
+  }
+  size_t size() const override { return static_cast<size_t>(end_.load()); }
+  std::int64_t end() const { return end_.load(); }
+
+ private:
+  AtomicOutput& out_;
+  std::atomic<std::int64_t> end_{0};
+  std::mutex mutex_;
+};
+
+AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::string> inputs,
+                           bool allow_stream)
+    : destination_(destination), target_(destination) {
+  install_cleanup_handlers();
+  const std::string where = "'" + clip(destination, 200) + "': ";
+  if (destination.empty()) throw Error("an empty output file name");
+  // The process's own descriptors (/dev/stdout, ...) are streams whatever they point to: a
+  // file a shell redirected stdout into must be appended to, not replaced.
+  if (const int own = own_descriptor(destination); own >= 0) {
+    if (!allow_stream) throw Error(where + "cannot be a stream; give a file name");
+    fd_ = ::fcntl(own, F_DUPFD_CLOEXEC, 3);
+    if (fd_ < 0) throw Error(where + errno_text(errno));
+    kind_ = Kind::stream;
+    path_ = destination;
+    return;
+  }
+  struct stat st {};
+  if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    // Write at the link's target, so the link keeps pointing at the new file.
+    std::error_code ec;
+    target_ = fs::weakly_canonical(fs::path(destination), ec).string();
+    if (ec || target_.empty()) throw Error(where + "cannot resolve the symbolic link");
+  }
+  if (::stat(target_.c_str(), &st) == 0) {
+    for (const std::string& input : inputs)
+      if (same_file(target_, input))
+        throw Error(where + "is the input file '" + clip(input, 200) +
+                    "'; refusing to overwrite it");
+    if (S_ISDIR(st.st_mode)) throw Error(where + "is a directory");
+    if (!S_ISREG(st.st_mode)) {
+      if (!allow_stream || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))
+        throw Error(where + "exists and is not a regular file; refusing to replace it");
+      fd_ = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      if (fd_ < 0) throw Error(where + errno_text(errno));
+      // Back to blocking writes: a reader that is slow must not turn into EAGAIN errors.
+      ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
+      kind_ = Kind::stream;
+      path_ = target_;
+      return;
+    }
+  }
+  const fs::path target(target_);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(where + "the folder '" + clip(dir.string(), 200) + "' does not exist");
+  // ".<name>.spectralize-XXXXXX.tmp", within NAME_MAX; mkostemps creates it with O_EXCL, which
+  // never follows a link planted at that name, and tries another name if one is there.
+  const std::string suffix = ".spectralize-XXXXXX.tmp";
+  const std::string name = target.filename().string();
+  std::string tmpl =
+      (dir / ("." + fitting_name(name, NAME_MAX - 1 - suffix.size()) + suffix)).string();
+  fd_ = ::mkostemps(tmpl.data(), 4, O_CLOEXEC);
+  if (fd_ < 0)
+    throw Error(where + "cannot create a file in '" + clip(dir.string(), 200) +
+                "': " + errno_text(errno));
+  path_ = tmpl;
+  slot_ = register_temporary(path_);
+  // The permissions a new file would get, or those of the file it replaces.
+  struct stat old {};
+  const mode_t mode =
+      ::stat(target_.c_str(), &old) == 0 ? (old.st_mode & 07777) : (0666 & ~g_umask);
+  ::fchmod(fd_, mode);
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_ && kind_ == Kind::file && !path_.empty()) ::unlink(path_.c_str());
+  release_temporary(slot_);
+}
+
+void AtomicOutput::write(std::string_view bytes) {
+  int err = 0;
+  if (!error_.empty()) return;
+  if (!write_all(fd_, bytes.data(), bytes.size(), -1, err)) {
+    error_ = errno_text(err);
+    throw Error("'" + clip(destination_, 200) + "': cannot write: " + error_);
+  }
+  written_ += bytes.size();
+}
+
+OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
+  if (!proxy_) proxy_ = std::make_unique<Proxy>(*this);
+  return proxy_.get();
+}
+
+void AtomicOutput::check() const {
+  if (!error_.empty()) throw Error("'" + clip(destination_, 200) + "': write failed: " + error_);
+}
+
+void AtomicOutput::commit() {
+  const std::string where = "'" + clip(destination_, 200) + "': ";
+  check();
+  if (kind_ == Kind::stream) {
+    committed_ = true;
+    return;
+  }
+  // The file must hold exactly what was written: a short write that went unnoticed would
+  // otherwise become a truncated file at the destination.
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0) throw Error(where + "write failed: " + errno_text(errno));
+  const std::int64_t expected =
+      std::max<std::int64_t>(static_cast<std::int64_t>(written_), proxy_ ? proxy_->end() : 0);
+  if (expected > 0 && st.st_size != expected)
+    throw Error(where + "write failed: the file holds " + std::to_string(st.st_size) +
+                " bytes of " + std::to_string(expected));
+  if (st.st_size == 0) throw Error(where + "write failed: nothing was written");
+  if (::fsync(fd_) != 0) throw Error(where + "write failed: " + errno_text(errno));
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) throw Error(where + "write failed: " + errno_text(errno));
+  if (::rename(path_.c_str(), target_.c_str()) != 0)
+    throw Error(where + "cannot move the finished file into place: " + errno_text(errno));
+  committed_ = true;
+  release_temporary(slot_);
+  slot_ = -1;
+  // Make the rename itself durable (best effort: some file systems refuse to sync a folder).
+  const fs::path dir =
+      fs::path(target_).has_parent_path() ? fs::path(target_).parent_path() : fs::path(".");
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+}  // namespace spectralize

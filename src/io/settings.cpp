@@ -1,0 +1,303 @@
+#include "io/settings.h"
+
+#include <charconv>
+#include <cmath>
+
+#include "core/colorimetry.h"
+#include "core/error.h"
+#include "io/safe_output.h"
+
+namespace spectralize {
+
+namespace {
+
+constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest;
+constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
+constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest;
+
+std::string quoted(std::string_view text) {
+  return "'" + clip(text) + "'";
+}
+
+// A whole number in [lo, hi]; throws Error naming the value.
+int whole(std::string_view text, int lo, int hi) {
+  int v = 0;
+  auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size())
+    throw Error(quoted(text) + " is not a whole number");
+  if (v < lo || v > hi)
+    throw Error(quoted(text) + " must be between " + std::to_string(lo) + " and " +
+                std::to_string(hi));
+  return v;
+}
+
+// One of `choices`; throws Error listing them.
+std::string_view choice(std::string_view text, std::initializer_list<std::string_view> choices) {
+  std::string valid;
+  for (std::string_view c : choices) {
+    if (c == text) return c;
+    valid += (valid.empty() ? "" : ", ") + std::string(c);
+  }
+  throw Error(quoted(text) + " (valid: " + valid + ")");
+}
+
+std::string shortest(double v) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+bool is_reflectance(const Settings& s) {
+  return s.spectral.mode == Mode::reflectance;
+}
+
+// The compression as OIIO takes it: a codec name, and for zip/zips a zlib level 1..9, for
+// dwaa/dwab a quality > 0 ("dwaa:45").
+std::string parse_compression(std::string_view text) {
+  const std::size_t colon = text.find(':');
+  const std::string_view name = text.substr(0, colon);
+  bool known = false;
+  for (std::string_view c : exr_compressions()) known = known || c == name;
+  if (!known) {
+    std::string valid;
+    for (std::string_view c : exr_compressions())
+      valid += (valid.empty() ? "" : ", ") + std::string(c);
+    throw Error(quoted(text) + " (valid: " + valid + ", with :LEVEL for zip, zips, dwaa, dwab)");
+  }
+  if (colon == std::string_view::npos) return std::string(name);
+  const std::string_view level = text.substr(colon + 1);
+  if (name == "zip" || name == "zips") {
+    whole(level, 1, 9);
+  } else if (name == "dwaa" || name == "dwab") {
+    double q = 0;
+    auto r = std::from_chars(level.data(), level.data() + level.size(), q);
+    if (r.ec != std::errc() || r.ptr != level.data() + level.size() || !(q > 0) ||
+        !std::isfinite(q))
+      throw Error(quoted(text) + ": the DWA quality must be a number above 0 (e.g. dwaa:45)");
+  } else {
+    throw Error(quoted(text) + ": only zip, zips, dwaa and dwab take a level");
+  }
+  return std::string(text);
+}
+
+std::vector<SettingSpec> make_schema() {
+  std::vector<SettingSpec> s;
+  s.push_back({"colorspace", "--colorspace", "NAME", "",
+               "Colour space of the input (--to-rgb: of the output): a name, alias or role of "
+               "the OCIO config",
+               kImage | kToRgb | kColor | kPlotColor | kIngest, true, false,
+               [](Settings& v, std::string_view t) { v.colorspace = std::string(t); },
+               [](const Settings& v) { return v.colorspace; },
+               [](const Settings& v) { return !v.colorspace.empty(); },
+               "from the file rules, the file, then the config's roles"});
+  s.push_back({"mode", "--mode", "MODE", "mode",
+               "emission (lights, HDR), reflectance (surfaces, 0 <= rho <= 1) or auto (float "
+               "data and --color values are light, integer data a texture)",
+               kSpectrumCommands, true, true,
+               [](Settings& v, std::string_view t) {
+                 const std::string_view c = choice(t, {"auto", "emission", "reflectance"});
+                 v.mode = c == "auto"       ? ModeChoice::automatic
+                          : c == "emission" ? ModeChoice::emission
+                                            : ModeChoice::reflectance;
+               },
+               [](const Settings& v) { return std::string(to_string(v.mode)); }, nullptr});
+  s.push_back({"wavelengths", "--wavelengths", "GRID", "wavelengths",
+               "Sampling grid START:END:STEP in nm, inside 360..830, step >= 0.5",
+               kSpectrumCommands, true, true,
+               [](Settings& v, std::string_view t) { v.spectral.grid = WavelengthGrid::parse(t); },
+               [](const Settings& v) { return v.spectral.grid.to_string(); }, nullptr});
+  s.push_back({"observer", "--observer", "NAME", "observer",
+               "CIE standard observer: cie1931 (2 degrees) or cie1964 (10 degrees)", kAllCommands,
+               true, true,
+               [](Settings& v, std::string_view t) { v.spectral.observer = Observer::get(t).name; },
+               [](const Settings& v) { return v.spectral.observer; }, nullptr});
+  s.push_back(
+      {"illuminant", "--illuminant", "NAME", "illuminant",
+       "Reference illuminant of reflectances (--to-rgb, --plot-pixel: the light "
+       "reflective files are seen under): D65, D50, A, C, E, D<nn>, FL1..FL12, ...",
+       kAllCommands, true, true,
+       [](Settings& v, std::string_view t) { v.spectral.illuminant = Illuminant::get(t).name; },
+       [](const Settings& v) { return v.spectral.illuminant; }, is_reflectance});
+  s.push_back(
+      {"model", "--model", "NAME", "model",
+       "How the spectrum is chosen among the exact ones: paper (the average of the "
+       "admissible partial solutions) or smooth (the smoothest within the bounds)",
+       kSpectrumCommands, true, true,
+       [](Settings& v, std::string_view t) { v.spectral.model = std::string(find_model(t).name); },
+       [](const Settings& v) { return v.spectral.model; }, nullptr});
+  s.push_back({"filter", "--filter", "K", "filter",
+               "Paper model: drop the K partial solutions with the largest density: auto, a "
+               "fraction (0.7), a percentage (70%), a count (1000) or none",
+               kSpectrumCommands, true, true,
+               [](Settings& v, std::string_view t) { v.spectral.filter = EdgeFilter::parse(t); },
+               [](const Settings& v) { return v.spectral.filter.to_string(); },
+               [](const Settings& v) { return find_model(v.spectral.model).uses("filter"); }});
+  s.push_back({"curvature", "--curvature", "NM", "curvature",
+               "Smooth model: the curvature length tau of its roughness x'^2 + tau^2 x''^2, in "
+               "nm (0: slope only)",
+               kSpectrumCommands, true, true,
+               [](Settings& v, std::string_view t) {
+                 double tau = 0;
+                 auto r = std::from_chars(t.data(), t.data() + t.size(), tau);
+                 if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !(tau >= 0) ||
+                     !(tau <= 1000))
+                   throw Error(quoted(t) + " must be a length in nm from 0 to 1000");
+                 v.spectral.curvature_nm = tau;
+               },
+               [](const Settings& v) { return shortest(v.spectral.curvature_nm); },
+               [](const Settings& v) { return find_model(v.spectral.model).uses("curvature"); }});
+  s.push_back(
+      {"emission_basis", "--emission-basis", "NAME", "emissionBasis",
+       "Emission: flat, or an illuminant E (D65, A, ...): spectrum = E x s with s >= 0, "
+       "white balanced to E, so white light becomes E itself",
+       kSpectrumCommands, true, true,
+       [](Settings& v, std::string_view t) { v.spectral.emission_basis = parse_emission_basis(t); },
+       [](const Settings& v) { return v.spectral.emission_basis; },
+       [](const Settings& v) { return v.spectral.mode == Mode::emission; }});
+  s.push_back({"format", "--format", "FORMAT", "",
+               "Samples of the written file: half (max 65504; larger samples are clamped and "
+               "counted) or float",
+               kFileCommands, true, false,
+               [](Settings& v, std::string_view t) {
+                 v.half = choice(t, {"half", "float"}) == "half";
+               },
+               [](const Settings& v) { return std::string(v.half ? "half" : "float"); }, nullptr,
+               "", "-d"});
+  s.push_back({"print_format", "--format", "FORMAT", "",
+               "How --color prints spectra: csv (wavelength_nm,value rows) or json (every field "
+               "of the result)",
+               kColor, false, false,
+               [](Settings& v, std::string_view t) {
+                 v.json = choice(t, {"csv", "json"}) == "json";
+               },
+               [](const Settings& v) { return std::string(v.json ? "json" : "csv"); }, nullptr});
+  s.push_back({"compression", "--compression", "NAME", "",
+               "OpenEXR compression, OIIO's NAME[:LEVEL]: zip, zips, piz, rle, pxr24, b44, b44a, "
+               "dwaa, dwab, none (zip:1..9, dwaa:45)",
+               kFileCommands, true, false,
+               [](Settings& v, std::string_view t) { v.compression = parse_compression(t); },
+               [](const Settings& v) { return v.compression; }, nullptr});
+  s.push_back({"tile", "--tile", "N", "",
+               "Write N x N tiles (16..4096) instead of scanlines (0: scanlines)", kFileCommands,
+               true, false,
+               [](Settings& v, std::string_view t) {
+                 v.tile = whole(t, 0, 4096);
+                 if (v.tile != 0 && v.tile < 16)
+                   throw Error(quoted(t) + " must be 0 (scanlines) or between 16 and 4096");
+               },
+               [](const Settings& v) { return std::to_string(v.tile); }, nullptr});
+  s.push_back({"method", "--method", "METHOD", "method",
+               "table (exact interpolation of cached node spectra) or exact (every distinct "
+               "colour solved directly; slow, for comparison)",
+               kImage | kIngest, true, false,
+               [](Settings& v, std::string_view t) {
+                 v.method = choice(t, {"table", "exact"}) == "table" ? SpectralTable::Method::table
+                                                                     : SpectralTable::Method::exact;
+               },
+               [](const Settings& v) {
+                 return std::string(v.method == SpectralTable::Method::table ? "table" : "exact");
+               },
+               nullptr});
+  s.push_back({"cache", "--cache", "DIR", "",
+               "Keep the node table in DIR across runs (a file per combination of the settings "
+               "the spectra depend on)",
+               kImage | kIngest, true, false,
+               [](Settings& v, std::string_view t) { v.cache_dir = std::string(t); },
+               [](const Settings& v) { return v.cache_dir; },
+               [](const Settings& v) { return !v.cache_dir.empty(); }, "none"});
+  s.push_back({"threads", "--threads", "N", "",
+               "Worker threads (0: all cores); the output does not depend on it", kFileCommands,
+               true, false, [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
+               [](const Settings& v) { return std::to_string(v.threads); }, nullptr});
+  s.push_back({"config", "--config", "FILE", "",
+               "OCIO config (default: $OCIO, else the config shipped with spectralize)",
+               kAllCommands, true, false,
+               [](Settings& v, std::string_view t) { v.config = std::string(t); },
+               [](const Settings& v) { return v.config; },
+               [](const Settings& v) { return !v.config.empty(); },
+               "$OCIO, else the shipped config", "--colorconfig"});
+  return s;
+}
+
+}  // namespace
+
+std::string_view to_string(ModeChoice mode) {
+  switch (mode) {
+    case ModeChoice::automatic:
+      return "auto";
+    case ModeChoice::emission:
+      return "emission";
+    case ModeChoice::reflectance:
+      return "reflectance";
+  }
+  return "auto";
+}
+
+const std::vector<std::string_view>& exr_compressions() {
+  static const std::vector<std::string_view> names = {"none",  "rle", "zips", "zip",  "piz",
+                                                      "pxr24", "b44", "b44a", "dwaa", "dwab"};
+  return names;
+}
+
+const std::vector<SettingSpec>& settings_schema() {
+  static const std::vector<SettingSpec> schema = make_schema();
+  return schema;
+}
+
+const SettingSpec* find_setting(std::string_view key) {
+  for (const SettingSpec& s : settings_schema())
+    if (s.key == key) return &s;
+  return nullptr;
+}
+
+const SettingSpec* find_setting_for_flag(std::string_view flag, Command command) {
+  for (const SettingSpec& s : settings_schema())
+    if ((s.flag == flag || (!s.alias.empty() && s.alias == flag)) && s.applies(command)) return &s;
+  return nullptr;
+}
+
+unsigned flag_commands(std::string_view flag) {
+  unsigned commands = 0;
+  for (const SettingSpec& s : settings_schema())
+    if (s.flag == flag || (!s.alias.empty() && s.alias == flag)) commands |= s.commands;
+  return commands;
+}
+
+void apply_setting(Settings& settings, const SettingSpec& spec, std::string_view text,
+                   std::string_view where) {
+  if (text.empty())
+    throw Error(std::string(where) + ": an empty value (give a value or leave the option out)");
+  try {
+    spec.parse(settings, text);
+  } catch (const Error& e) {
+    throw Error(std::string(where) + ": " + e.what());
+  }
+}
+
+std::string setting_value(const SettingSpec& spec, const Settings& settings) {
+  // What was done is the resolved mode, whatever was asked ("auto").
+  if (spec.key == "mode") return std::string(to_string(settings.spectral.mode));
+  return spec.format(settings);
+}
+
+std::vector<std::pair<std::string, std::string>> describe_settings(const Settings& settings,
+                                                                   Command command,
+                                                                   bool spectral_only) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const SettingSpec& s : settings_schema()) {
+    if (!s.applies(command) || !s.matters(settings) || (spectral_only && !s.spectral)) continue;
+    out.emplace_back(std::string(s.key), setting_value(s, settings));
+  }
+  return out;
+}
+
+std::string table_cache_key(const Settings& settings, const std::string& table_layout) {
+  std::string key = "spectralize " SPECTRALIZE_VERSION " node table";
+  for (const SettingSpec& s : settings_schema()) {
+    if (!s.spectral || !s.matters(settings)) continue;
+    key += "; " + std::string(s.key) + " " + setting_value(s, settings);
+  }
+  return key + "; " + table_layout;
+}
+
+}  // namespace spectralize

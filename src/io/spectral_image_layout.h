@@ -1,0 +1,51 @@
+#pragma once
+// The layout of a written spectral image (docs/DESIGN.md §10): which channels hold the bands,
+// the RGB previews and alpha, with which names and attributes. The spectral OpenEXR layout of
+// Fichet, Pacanowski & Wilkie (JCGT 2021) with R, G, B previews is the implementation; the pixel
+// kernel only needs the channel offsets, so other layouts can be added beside it.
+
+#include <OpenImageIO/imageio.h>
+
+#include <memory>
+#include <string>
+
+#include "core/spectralizer.h"
+#include "io/colour_space.h"
+#include "io/settings.h"
+
+namespace spectralize {
+
+class SpectralImageLayout {
+ public:
+  virtual ~SpectralImageLayout() = default;
+  /// Size, windows, channels, sample type, tiling and attributes of the written image.
+  /// Cost: O(1).
+  virtual const OIIO::ImageSpec& spec() const = 0;
+  /// The first band channel: the bands follow contiguously, by increasing wavelength. Cost: O(1).
+  virtual int band_channel() const = 0;
+  /// The R of the R, G, B preview (G and B follow), or -1 without previews. Cost: O(1).
+  virtual int preview_channel() const = 0;
+  /// The alpha channel, or -1. Cost: O(1).
+  virtual int alpha_channel() const = 0;
+  /// The colour space of the previews. Cost: O(1).
+  virtual const std::string& preview_colorspace() const = 0;
+};
+
+/// What a layout is made from.
+struct LayoutRequest {
+  const OIIO::ImageSpec& input;  // windows and descriptive metadata to carry over
+  bool alpha = false;            // the input has alpha
+  const Settings& settings;      // sample type, compression, tiling; the settings written
+  std::string input_colorspace;  // recorded as spectralize:colorspace
+  std::string preview_colorspace;
+  const ColourSpaces& spaces;  // to tag the previews
+  std::string date_time;       // EXIF DateTime
+};
+
+/// The spectral OpenEXR layout: R, G, B previews (tagged with their colour space), A when the
+/// input has alpha, then "S0.<nm>nm" (emission) or "T.<nm>nm" (reflectance) bands;
+/// spectralLayoutVersion, emissiveUnits for emission, the settings as spectralize:*
+/// attributes, the input's descriptive metadata. Cost: O(channels + attributes).
+std::unique_ptr<SpectralImageLayout> spectral_exr_layout(const LayoutRequest& request);
+
+}  // namespace spectralize
