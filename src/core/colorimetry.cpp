@@ -160,7 +160,7 @@ const Observer& Observer::get(std::string_view name) {
   std::string n = lower(name);
   if (n == "cie1931" || n == "cie1931_2" || n == "1931" || n == "2") return *cie1931;
   if (n == "cie1964" || n == "cie1964_10" || n == "1964" || n == "10") return *cie1964;
-  throw Error("unknown observer '" + std::string(name) + "' (valid: " + join(names()) + ")");
+  throw Error("unknown observer " + quote(name) + " (valid: " + join(names()) + ")");
 }
 
 std::vector<std::string> Observer::names() {
@@ -184,8 +184,8 @@ Illuminant Illuminant::get(std::string_view name) {
              std::all_of(n.begin() + 1, n.end(), [](char c) { return std::isdigit(c); })) {
     int hundreds = std::stoi(n.substr(1));
     if (hundreds < 40 || hundreds > 250)
-      throw Error("illuminant '" + std::string(name) +
-                  "': daylight series is defined for D40..D250 (4000..25000 K)");
+      throw Error("illuminant " + quote(name) +
+                  ": daylight series is defined for D40..D250 (4000..25000 K)");
     il = {std::string("D").append(n, 1, std::string::npos), daylight(hundreds * 100.0)};
   } else {
     for (const auto& col : embedded_columns(kFluorescentFile)) {
@@ -195,7 +195,7 @@ Illuminant Illuminant::get(std::string_view name) {
       }
     }
     if (il.name.empty())
-      throw Error("unknown illuminant '" + std::string(name) + "' (valid: " + join(names()) + ")");
+      throw Error("unknown illuminant " + quote(name) + " (valid: " + join(names()) + ")");
   }
   return il;
 }

@@ -32,7 +32,7 @@ EdgeFilter EdgeFilter::automatic() {
 }
 
 EdgeFilter EdgeFilter::parse(std::string_view text) {
-  const std::string quoted = "edge filter '" + std::string(text) + "': ";
+  const std::string quoted = "edge filter " + quote(text) + ": ";
   if (text == "none") return EdgeFilter();
   if (text == "auto") return automatic();
   bool percent = !text.empty() && text.back() == '%';

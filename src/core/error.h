@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace spectralize {
 
@@ -12,5 +13,15 @@ class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
+
+/// A value given by a user, quoted for a message and shortened to `limit` characters (whole
+/// UTF-8 characters), so that a megabyte of garbage is not echoed back. Cost: O(limit).
+inline std::string quote(std::string_view value, std::size_t limit = 80) {
+  std::string out = "'";
+  if (value.size() <= limit) return out.append(value) + "'";
+  std::size_t n = limit;
+  while (n > 0 && (static_cast<unsigned char>(value[n]) & 0xC0) == 0x80) --n;
+  return out.append(value.substr(0, n)) + "...' (" + std::to_string(value.size()) + " bytes)";
+}
 
 }  // namespace spectralize

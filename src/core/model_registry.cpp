@@ -29,7 +29,7 @@ const ModelInfo& find_model(std::string_view name) {
     if (m.name == name) return m;
     valid += (valid.empty() ? "" : ", ") + std::string(m.name);
   }
-  throw Error("unknown model '" + std::string(name) + "' (valid: " + valid + ")");
+  throw Error("unknown model " + quote(name) + " (valid: " + valid + ")");
 }
 
 }  // namespace spectralize

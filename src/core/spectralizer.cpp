@@ -74,7 +74,7 @@ std::string_view to_string(Mode mode) {
 Mode parse_mode(std::string_view text) {
   if (text == "emission") return Mode::emission;
   if (text == "reflectance") return Mode::reflectance;
-  throw Error("unknown mode '" + std::string(text) + "' (valid: emission, reflectance)");
+  throw Error("unknown mode " + quote(text) + " (valid: emission, reflectance)");
 }
 
 std::string parse_emission_basis(std::string_view text) {
@@ -84,8 +84,8 @@ std::string parse_emission_basis(std::string_view text) {
   try {
     return Illuminant::get(text).name;
   } catch (const Error& e) {
-    throw Error("unknown emission basis '" + std::string(text) +
-                "' (valid: flat or an illuminant name, e.g. D65, A, FL2)");
+    throw Error("unknown emission basis " + quote(text) +
+                " (valid: flat or an illuminant name, e.g. D65, A, FL2)");
   }
 }
 

@@ -50,11 +50,10 @@ WavelengthGrid WavelengthGrid::parse(std::string_view spec) {
     std::size_t colon = rest.find(':');
     std::string_view part = (i < 2) ? rest.substr(0, colon) : rest;
     if ((i < 2 && colon == std::string_view::npos) || (i == 2 && part.find(':') != part.npos))
-      throw Error("wavelength grid '" + std::string(spec) + "': expected start:end:step in nm");
+      throw Error("wavelength grid " + quote(spec) + ": expected start:end:step in nm");
     auto r = std::from_chars(part.data(), part.data() + part.size(), v[i]);
     if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
-      throw Error("wavelength grid '" + std::string(spec) + "': '" + std::string(part) +
-                  "' is not a number");
+      throw Error("wavelength grid " + quote(spec) + ": " + quote(part) + " is not a number");
     if (i < 2) rest = rest.substr(colon + 1);
   }
   return WavelengthGrid(v[0], v[1], v[2]);

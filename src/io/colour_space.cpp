@@ -94,7 +94,7 @@ std::string ColourSpaces::resolve(std::string_view name) const {
   if (cs) return cs->getName();
   std::string valid;
   for (const auto& d : describe()) valid += "\n  " + d;
-  throw Error("unknown colour space '" + std::string(name) + "' in OCIO config '" + origin_ +
+  throw Error("unknown colour space " + quote(name) + " in OCIO config '" + origin_ +
               "'. Valid names (aliases in brackets):" + valid);
 }
 
@@ -191,41 +191,37 @@ namespace {
 // EXR chromaticities attribute says) and as a D65-referred config sees them after its Bradford
 // adaptation to D65 (measured through OCIO's built-in ACES transforms).
 struct KnownSpace {
-  const char* linear;   // interop ID of the scene-linear encoding
-  const char* encoded;  // interop ID of the sRGB-curve encoding, or ""
+  const char* linear;  // interop ID of the scene-linear encoding
+  const char* srgb;    // interop ID of the sRGB-curve encoding, or ""
+  const char* g22;     // interop ID of the 2.2-gamma encoding, or ""
   std::array<float, 8> native, adapted;
 };
 constexpr float kD65x = 0.3127f, kD65y = 0.3290f;
+// clang-format off
 const KnownSpace kKnown[] = {
-    {"lin_rec709_scene",
-     "srgb_rec709_scene",
+    {"lin_rec709_scene", "srgb_rec709_scene", "g22_rec709_scene",
      {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y},
      {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"lin_rec2020_scene",
-     "",
+    {"lin_rec2020_scene", "", "",
      {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y},
      {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y}},
-    {"lin_p3d65_scene",
-     "srgb_p3d65_scene",
+    {"lin_p3d65_scene", "srgb_p3d65_scene", "",
      {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y},
      {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y}},
-    {"lin_adobergb_scene",
-     "",
+    {"lin_adobergb_scene", "", "g22_adobergb_scene",
      {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y},
      {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"lin_ap1_scene",
-     "",
+    {"lin_ap1_scene", "", "",
      {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f},
      {0.713196f, 0.292689f, 0.159509f, 0.838789f, 0.128673f, 0.043896f, kD65x, kD65y}},
-    {"lin_ap0_scene",
-     "",
+    {"lin_ap0_scene", "", "",
      {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f},
      {0.734855f, 0.264225f, -0.006171f, 1.011315f, 0.015968f, -0.064236f, kD65x, kD65y}},
-    {"lin_ciexyzd65_scene",
-     "",
+    {"lin_ciexyzd65_scene", "", "",
      {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f},
      {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f}},
 };
+// clang-format on
 
 bool same_xy(const std::array<float, 8>& a, const float* b) {
   for (int i = 0; i < 8; ++i)
@@ -275,9 +271,12 @@ std::string ColourSpaces::interop_id(std::string_view space) const {
   for (const KnownSpace& k : kKnown) {
     if (!same_xy(k.adapted, xy->data())) continue;
     if (linear) return k.linear;
-    // An encoded space: the sRGB curve is recognised by its value at 0.5 (0.214).
+    // An encoded space, recognised by its value at 0.5: the sRGB curve gives 0.2140, a 2.2
+    // gamma (or Adobe's 563/256) 0.2176.
     const Xyz half = to_xyz(space)(0.5, 0.5, 0.5), one = to_xyz(space)(1, 1, 1);
-    if (*k.encoded && std::abs(half.Y / one.Y - 0.21404) < 1e-3) return k.encoded;
+    const double v = half.Y / one.Y;
+    if (*k.srgb && std::abs(v - 0.21404) < 1e-3) return k.srgb;
+    if (*k.g22 && std::abs(v - 0.21764) < 1e-3) return k.g22;
     return "";
   }
   return "";

@@ -33,7 +33,8 @@ std::unique_ptr<AtomicOutput> open_report(const Options& opt, const std::string&
   const fs::path a = fs::weakly_canonical(fs::absolute(opt.report), ec);
   const fs::path b = fs::weakly_canonical(fs::absolute(opt.output), ec);
   if (a == b || same_file(opt.report, opt.output))
-    throw UsageError{"--report '" + clip(opt.report) + "': is the output file"};
+    throw Error("--report '" + clip(opt.report) +
+                "': is the output file; refusing to overwrite it");
   const std::string inputs[] = {input, opt.output};
   try {
     return std::make_unique<AtomicOutput>(opt.report, inputs, /*allow_stream=*/true);

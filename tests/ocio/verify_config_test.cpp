@@ -164,6 +164,11 @@ const std::vector<SpaceSpec> kSpaces = {
     {"Linear Rec.2020", "scene-linear", false, {"lin_rec2020", "Utility - Linear - Rec.2020"}},
     {"Linear P3-D65", "scene-linear", false, {"lin_p3d65", "Utility - Linear - P3-D65"}},
     {"Linear Adobe RGB (1998)", "scene-linear", false, {"lin_adobergb"}},
+    {"Adobe RGB (1998) - Texture",
+     "sdr-video",
+     false,
+     {"g22_adobergb_tx", "adobergb", "Adobe RGB (1998)"}},
+    {"Display P3 - Texture", "sdr-video", false, {"srgb_p3d65_tx", "Display P3"}},
     {"ACEScg", "scene-linear", false, {"acescg", "ACES - ACEScg", "lin_ap1"}},
     {"ACES2065-1", "scene-linear", false, {"aces2065_1", "ACES - ACES2065-1", "lin_ap0", "aces"}},
     {"ACEScct", "log", false, {"acescct", "ACES - ACEScct", "acescct_ap1"}},
@@ -349,6 +354,12 @@ int main(int argc, char** argv) {
     const double g = std::pow(0.5, 2.2);
     const double g22[3] = {g, g, g};
     checkConvert(cfg, "Gamma 2.2 Rec.709 - Texture", "Linear Rec.709 (sRGB)", in, g22, 1e-6);
+    // Adobe RGB (1998): gamma 563/256 (Adobe RGB (1998) Color Image Encoding, 4.3.4.2)
+    const double a = std::pow(0.5, 563.0 / 256.0);
+    const double adobe[3] = {a, a, a};
+    checkConvert(cfg, "Adobe RGB (1998) - Texture", "Linear Adobe RGB (1998)", in, adobe, 1e-6);
+    // Display P3: the sRGB curve on P3-D65 primaries
+    checkConvert(cfg, "Display P3 - Texture", "Linear P3-D65", in, lin, 1e-6);
   }
 
   // Cross-gamut sanity: Rec.709 -> Rec.2020 (ITU-R BT.2087 matrix, row 0/1/2 of red).
