@@ -230,9 +230,16 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
   }
   struct stat st {};
   if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
-    // Write at the link's target, so the link keeps pointing at the new file.
+    // Write at the link's target, so the link keeps pointing at the new file (also when the
+    // target does not exist yet, which weakly_canonical alone would not follow).
     std::error_code ec;
-    target_ = fs::weakly_canonical(fs::path(destination), ec).string();
+    fs::path p(destination);
+    for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+      const fs::path link = fs::read_symlink(p, ec);
+      if (ec) throw Error(where + "cannot resolve the symbolic link: " + ec.message());
+      p = link.is_absolute() ? link : p.parent_path() / link;
+    }
+    target_ = fs::weakly_canonical(p, ec).string();
     if (ec || target_.empty()) throw Error(where + "cannot resolve the symbolic link");
   }
   if (::stat(target_.c_str(), &st) == 0) {
