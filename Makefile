@@ -74,7 +74,7 @@ format:
 	@clang-format -i $(SOURCES)
 
 format-check:
-	@clang-format --dry-run --Werror $(SOURCES)
+	@cmake -DSOURCE_DIR=$(CURDIR) -DCLANG_FORMAT=clang-format -P cmake/FormatCheck.cmake
 
 clean:
 	@rm -rf $(BUILD_DIR)

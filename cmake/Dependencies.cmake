@@ -1,11 +1,10 @@
 # Finds the Debian packages spectralize builds with, working around two packaging bugs of
-# Debian 12 (see DESIGN §7).
+# Debian 12 (see docs/DESIGN.md §11).
 
 find_package(fmt REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(OpenImageIO REQUIRED)
-find_package(OpenEXR REQUIRED)
 find_package(Imath REQUIRED)
 
 # OIIO's exported target names /usr/include/opencv4, which does not exist without OpenCV's
@@ -37,4 +36,3 @@ if(NOT TARGET OpenColorIO::OpenColorIO)
 endif()
 
 find_program(OCIOCHECK_EXECUTABLE ociocheck)
-find_program(OIIOTOOL_EXECUTABLE oiiotool)

@@ -1,8 +1,8 @@
 #pragma once
 // The exact bounded fallback: the spectrum closest (least squares) to a starting spectrum among
-// all spectra with W x = target and 0 <= x <= upper (DESIGN §5's feasible set). Used to enforce
-// rho <= 1 when the paper's filter alone does not, and to polish the paper's average to double
-// precision exactness.
+// all spectra with W x = target and 0 <= x <= upper (docs/DESIGN.md §5's feasible set). Used to
+// enforce rho <= 1 when the paper's filter alone does not, and to polish the paper's average to
+// double precision exactness.
 
 #include <limits>
 #include <span>

@@ -1,5 +1,5 @@
 #pragma once
-// CIE observers and illuminants on the 1 nm reference table grid 360..830 nm (DESIGN §3),
+// CIE observers and illuminants on the 1 nm reference table grid 360..830 nm (docs/DESIGN.md §3),
 // loaded from the project's embedded copy of data/.
 
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// The two gamuts of DESIGN §5, as exact half-space descriptions in XYZ:
+// The two gamuts of docs/DESIGN.md §5, as exact half-space descriptions in XYZ:
 // - the spectral locus of a grid: the cone {W phi : phi >= 0} spanned by the sample weights;
 // - the reflectance solid: the zonotope {W rho : 0 <= rho <= 1}.
 // A target outside is moved toward a white of the same luminance until it is inside.

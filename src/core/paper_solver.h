@@ -7,7 +7,7 @@
 // admissible exactly when the target's chromaticity lies in the triangle of the three samples'
 // chromaticities, and its densities are the barycentric coordinates scaled by S/s_m. Sorting
 // the samples by angle around the target turns "contains the target" into contiguous index
-// ranges, so only admissible triples are visited (DESIGN §4, "culling by orientation").
+// ranges, so only admissible triples are visited (docs/DESIGN.md §2, "the fast form").
 
 #include <cstddef>
 #include <span>

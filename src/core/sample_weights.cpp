@@ -73,8 +73,8 @@ SampleWeights::SampleWeights(const WavelengthGrid& grid, const Observer& observe
 SampleWeights::SampleWeights(std::span<const double> wavelengths_nm, const Observer& observer,
                              const Illuminant* illuminant)
     : columns_(tent_weights(wavelengths_nm, observer, illuminant)) {
-  // Emission: divide by K = sum tau ybar over the whole table (DESIGN §3). Reflectance: by the
-  // Y of rho == 1 on these wavelengths, so the reference white has Y = 1 exactly.
+  // Emission: divide by K = sum tau ybar over the whole table (docs/DESIGN.md §3). Reflectance: by
+  // the Y of rho == 1 on these wavelengths, so the reference white has Y = 1 exactly.
   Xyz raw_white;
   for (const Xyz& c : columns_) raw_white = raw_white + c;
   norm_ = illuminant ? raw_white.Y : observer.y_integral;

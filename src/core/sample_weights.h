@@ -1,5 +1,5 @@
 #pragma once
-// Tristimulus weights of each grid sample under the reference integration (DESIGN §3):
+// Tristimulus weights of each grid sample under the reference integration (docs/DESIGN.md §3):
 // W_i = sum_k tau_k * cmf(lambda_k) * E(lambda_k) * h_i(lambda_k) / norm, where h_i is the tent
 // of sample i, so that W . phi is exactly the trapezoid integral of the piecewise-linear
 // spectrum phi on the 1 nm CIE tables.

@@ -1,7 +1,7 @@
 #pragma once
 // The smooth exact model (beyond the paper): among all spectra with W x = target and
-// 0 <= x <= upper (DESIGN §5's feasible set), the one of least roughness x^T H x, where H is
-// the Gram matrix of a difference operator (banded). A strictly convex quadratic programme with
+// 0 <= x <= upper (docs/DESIGN.md §5's feasible set), the one of least roughness x^T H x, where H
+// is the Gram matrix of a difference operator (banded). A strictly convex quadratic programme with
 // 3 equality constraints and box bounds, solved by a primal-dual active-set method with a
 // primal active-set fallback, so it reaches the KKT conditions and always stops.
 

@@ -22,9 +22,9 @@ std::uint64_t fnv1a(const void* data, std::size_t size) {
 
 constexpr std::size_t kArenaBlockNodes = 1024;
 // Node spacing: 1/128 in chromaticity for emission, 1/64 with 16 layers in S = X+Y+Z for
-// reflectance (docs/DESIGN.md §7).
+// reflectance (docs/DESIGN.md §4).
 constexpr int kEmissionSteps = 128, kReflectanceSteps = 64, kLayers = 16;
-// A stored node must reproduce its own colour to float precision (docs/DESIGN.md §7).
+// A stored node must reproduce its own colour to float precision (docs/DESIGN.md §4).
 constexpr double kStoredNodeTolerance = 1e-5;
 
 PixelKind kind_of(const SpectrumResult& r) {

@@ -1,8 +1,8 @@
 #pragma once
-// The quantize-and-cache table of DESIGN §4: node spectra computed by the exact spectralizer on
-// a grid of colour coordinates, filled lazily and shared by all threads, and interpolated with
-// weights that reproduce linear functions, so every pixel's spectrum still reproduces its
-// colour exactly (to float precision).
+// The quantize-and-cache table of docs/DESIGN.md §4: node spectra computed by the exact
+// spectralizer on a grid of colour coordinates, filled lazily and shared by all threads, and
+// interpolated with weights that reproduce linear functions, so every pixel's spectrum still
+// reproduces its colour exactly (to float precision).
 //
 // Emission spectra scale with the colour, so nodes sit on the chromaticity plane (x, y) with
 // X+Y+Z = 1 and a pixel is the bilinear blend times its X+Y+Z. Reflectances are not scale-free
@@ -34,7 +34,7 @@ enum class PixelKind : std::uint8_t {
   black,          // zero colour: zero spectrum
   invalid,        // NaN or infinite: zero spectrum
   negative,       // negative luminance (Y < 0): no light or surface has it; zero spectrum
-  outside_locus,  // outside the spectral locus: mapped (DESIGN §5), then exact
+  outside_locus,  // outside the spectral locus: mapped (docs/DESIGN.md §5), then exact
   outside_solid,  // reflectance outside the reflectance solid: mapped, then exact
 };
 

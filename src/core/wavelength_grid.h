@@ -1,5 +1,5 @@
 #pragma once
-// The sampling grid of a spectrum: lambda_i = start + i*step, i = 0..N-1 (DESIGN §3).
+// The sampling grid of a spectrum: lambda_i = start + i*step, i = 0..N-1 (docs/DESIGN.md §3).
 
 #include <cstddef>
 #include <string>

@@ -193,8 +193,8 @@ std::vector<SphereFigure> make_figures(const std::string& outdir, std::ostream& 
 
   // Figs. 4-6: the surface under D65, A and FL11. Reflectance weights under each light are
   // normalised so rho == 1 has Y = 1 (lights of equal luminance). One fixed calibration for
-  // all three, the project's white balance (DESIGN §3): rho == 1 under D65 is RGB (1, 1, 1).
-  // No adaptation to A or FL11: both halves show the light's colour, as an RGB renderer whose
+  // all three, the project's white balance (docs/DESIGN.md §3): rho == 1 under D65 is RGB (1, 1,
+  // 1). No adaptation to A or FL11: both halves show the light's colour, as an RGB renderer whose
   // light is that illuminant's colour does.
   const Observer& observer = Observer::get(surface_settings.observer);
   const Illuminant d65 = Illuminant::get("D65");

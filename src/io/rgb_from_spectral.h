@@ -1,5 +1,5 @@
 #pragma once
-// Spectral OpenEXR (the layout of docs/DESIGN.md §10, written by any tool) back to RGB:
+// Spectral OpenEXR (the layout of docs/DESIGN.md §7, written by any tool) back to RGB:
 // emissive S0 channels integrated with the observer, reflective T channels under an
 // illuminant, on the file's own wavelengths by the reference integration (docs/DESIGN.md §3),
 // then converted by OCIO.

@@ -1,5 +1,5 @@
 #pragma once
-// The layout of a written spectral image (docs/DESIGN.md §10): which channels hold the bands,
+// The layout of a written spectral image (docs/DESIGN.md §7): which channels hold the bands,
 // the RGB previews and alpha, with which names and attributes. The spectral OpenEXR layout of
 // Fichet, Pacanowski & Wilkie (JCGT 2021) with R, G, B previews is the implementation; the pixel
 // kernel only needs the channel offsets, so other layouts can be added beside it.

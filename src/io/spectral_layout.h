@@ -1,7 +1,7 @@
 #pragma once
-// The spectral OpenEXR layout of Fichet, Pacanowski & Wilkie (JCGT 2021), DESIGN §6: channel
-// names like "S0.550,000000nm" (emissive, Stokes 0..3) or "T.550,000000nm" (reflective), with
-// a comma as decimal separator because '.' separates EXR layers.
+// The spectral OpenEXR layout of Fichet, Pacanowski & Wilkie (JCGT 2021), docs/DESIGN.md §7:
+// channel names like "S0.550,000000nm" (emissive, Stokes 0..3) or "T.550,000000nm" (reflective),
+// with a comma as decimal separator because '.' separates EXR layers.
 
 #include <optional>
 #include <string>

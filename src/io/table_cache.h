@@ -1,5 +1,5 @@
 #pragma once
-// The persistent node cache of a SpectralTable (docs/DESIGN.md §7): one file per key in the
+// The persistent node cache of a SpectralTable (docs/DESIGN.md §4): one file per key in the
 // cache folder, named by a stable 64-bit FNV-1a hash of the key, written atomically, read
 // defensively (a regular file of bounded size, magic, version, key, checksum), and every stored
 // node checked against its own colour before it is used. Anything unusable is reported and

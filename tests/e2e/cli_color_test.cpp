@@ -96,7 +96,7 @@ TEST(CliColor, PaperLightIsExactNonNegativeAndFreeOfEdgePeaks) {
 }
 
 // The paper's surface under D65: a reflectance in [0, 1] whose reflected colour, relative to the
-// reflected white, is the input (white balance W_ref / W_D65 per DESIGN §3).
+// reflected white, is the input (white balance W_ref / W_D65 per docs/DESIGN.md §3).
 TEST(CliColor, PaperSurfaceIsAnExactBoundedReflectance) {
   auto r = run("--color 0.21,0.72,0.15 --mode reflectance --format json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -175,7 +175,8 @@ TEST(CliColor, OtherGridsAndTheTenDegreeObserverStayExact) {
   Csv c = parse_csv(r.out);
   ASSERT_EQ(c.nm.size(), 31u);
   auto xyz = rec709(0.2, 0.5, 0.8);
-  // Target is the input XYZ, integrated with the 10 degree CMFs (DESIGN §3: same integration).
+  // Target is the input XYZ, integrated with the 10 degree CMFs (docs/DESIGN.md §3: same
+  // integration).
   auto got = e2e::integrate(c.nm, c.values[0], "cie1964_10deg_cmf_1nm.csv");
   EXPECT_LE(e2e::rel_err(got, xyz[0], xyz[1], xyz[2]), 1e-5);
 }

@@ -131,7 +131,7 @@ inline Table read_table(const std::string& file, const std::vector<std::string>&
 /// XYZ of the piecewise-linear spectrum (nm, values) on the 1 nm CMF table (trapezoid).
 /// Emission (no illuminant): divided by K = sum(tau * ybar) over the whole table. Reflectance
 /// (a 1 nm illuminant file on 300..830): divided by the Y of rho == 1 on the same grid, so the
-/// reference white has Y = 1 (DESIGN §3).
+/// reference white has Y = 1 (docs/DESIGN.md §3).
 struct Integrated {
   double X, Y, Z;
 };

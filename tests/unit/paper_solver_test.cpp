@@ -1,7 +1,7 @@
 // EdgeFilter parsing and PaperSolver against an independent brute force of the paper's method
-// (DESIGN §2): every triple i < j < k, its 3x3 system solved by Cramer's rule, the admissible
-// (all densities >= 0) partial solutions averaged, optionally after dropping the K with the
-// largest density.
+// (docs/DESIGN.md §2): every triple i < j < k, its 3x3 system solved by Cramer's rule, the
+// admissible (all densities >= 0) partial solutions averaged, optionally after dropping the K with
+// the largest density.
 
 #include "core/paper_solver.h"
 

@@ -1,5 +1,5 @@
 // Observers, illuminants and SampleWeights: the CIE data the library embeds, and the sample
-// weights that make W . phi equal the reference integration of DESIGN §3. The oracle is the
+// weights that make W . phi equal the reference integration of docs/DESIGN.md §3. The oracle is the
 // 1 nm trapezoid loop of test_support.h, written from the definition.
 
 #include "core/sample_weights.h"
@@ -68,7 +68,7 @@ TEST(Observer, YIntegralIsPbrtsConstant) {
   // pbrt-v4's CIE_Y_integral = 106.856895 (sum of ybar on the 1 nm table); 1e-3 covers the
   // trapezoid's halved end points (ybar there is ~4e-6).
   EXPECT_NEAR(o2.y_integral, 106.856895, 1e-3);
-  // And it is K = sum tau ybar as DESIGN §3 defines it, to summation rounding.
+  // And it is K = sum tau ybar as docs/DESIGN.md §3 defines it, to summation rounding.
   for (const char* name : {"cie1931", "cie1964"}) {
     const Observer& o = Observer::get(name);
     EXPECT_NEAR(o.y_integral, test::y_integral(o), 1e-12 * o.y_integral) << name;
@@ -212,7 +212,7 @@ TEST(SampleWeights, ReflectanceWhiteHasLuminanceOneAndTheIlluminantsChromaticity
       EXPECT_NEAR(got[0], want[0], 1e-12);
       EXPECT_NEAR(got[1], want[1], 1e-12);
     }
-  // On every grid, also those that do not cover 360..830 nm, rho == 1 has Y = 1 (DESIGN §3:
+  // On every grid, also those that do not cover 360..830 nm, rho == 1 has Y = 1 (docs/DESIGN.md §3:
   // "normalised so that rho == 1 gives Y = 1"); 1e-12: summation rounding.
   for (const char* gtext : {"380:780:5", "380:780:10", "400:701:7", "380.5:779.5:3", "380:780:0.5"})
     for (const char* iname : {"D65", "A"}) {

@@ -181,7 +181,7 @@ inline Tally run_random(const Spectralizer& sp, const Space& space, std::size_t 
   return t;
 }
 
-// Expected share of out-of-gamut colours of the unit cube, from DESIGN §5's measurements:
+// Expected share of out-of-gamut colours of the unit cube, from docs/DESIGN.md §5's measurements:
 // every sRGB colour is a reflectance and inside the locus (its primaries are well inside);
 // ~92% of the Rec.2020 cube and ~90% of the ACEScg cube are reflectances; Rec.2020's
 // primaries sit on the true locus (a coarse grid's locus cuts the corners slightly), and

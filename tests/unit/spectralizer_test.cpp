@@ -1,4 +1,4 @@
-// Spectralizer: the user-visible promises of DESIGN §1-§5. Every spectrum reproduces its
+// Spectralizer: the user-visible promises of docs/DESIGN.md §1-§5. Every spectrum reproduces its
 // (possibly gamut-mapped) colour exactly under the reference integration, is non-negative, and a
 // reflectance never exceeds 1. Exactness is checked with test_support.h's own 1 nm trapezoid
 // integration; targets are recomputed here from the RGB matrices and the white balance of eq. 6.
@@ -230,8 +230,8 @@ TEST(Spectralizer, BlackIsAZeroSpectrum) {
 }
 
 TEST(Spectralizer, EmissionIsScaleInvariant) {
-  // DESIGN §4: the spectrum of k XYZ is k times the spectrum of XYZ (the admissible set and the
-  // filter depend on chromaticity only). 1e-9 relative to the largest sample.
+  // docs/DESIGN.md §4: the spectrum of k XYZ is k times the spectrum of XYZ (the admissible set and
+  // the filter depend on chromaticity only). 1e-9 relative to the largest sample.
   const Spectralizer sp = make(Mode::emission);
   for (const Xyz& rgb : {Xyz{0.21, 0.72, 0.15}, Xyz{0.8, 0.3, 0.2}, Xyz{0.2, 0.4, 0.9}}) {
     const Xyz xyz = test::mul(test::kRec709ToXyz, rgb);

@@ -1,7 +1,7 @@
 #pragma once
 // Independent oracles for the unit tests: colour-space matrices written out (or derived here from
-// primaries), and the reference integration of DESIGN §3 implemented again from its definition,
-// so that no expected value comes from the code under test.
+// primaries), and the reference integration of docs/DESIGN.md §3 implemented again from its
+// definition, so that no expected value comes from the code under test.
 
 #include <gtest/gtest.h>
 
@@ -113,7 +113,7 @@ inline Mat3 acescg_to_xyz_d65() {
   return matmul(bradford(xyz_from_xy(0.32168, 0.33767), d65_white()), ap1);
 }
 
-// --- The reference integration of DESIGN §3, written from its definition ---
+// --- The reference integration of docs/DESIGN.md §3, written from its definition ---
 
 /// Value at `nm` of the piecewise-linear spectrum through `values` at start + i*step, zero
 /// outside [start, start + (n-1) step] (a table point within 1e-9 nm of an end counts as on it).
@@ -147,7 +147,7 @@ inline Xyz raw_integral(double start, double step, std::span<const double> value
   return s;
 }
 
-/// K = sum tau ybar over the whole 1 nm table: the emission normalisation (DESIGN §3).
+/// K = sum tau ybar over the whole 1 nm table: the emission normalisation (docs/DESIGN.md §3).
 inline double y_integral(const Observer& obs) {
   double s = 0;
   for (int nm = 360; nm <= 830; ++nm)
@@ -155,8 +155,8 @@ inline double y_integral(const Observer& obs) {
   return s;
 }
 
-/// The normalisation of DESIGN §3: emission K; reflectance the raw Y of rho == 1 on the grid,
-/// so that rho == 1 has Y = 1.
+/// The normalisation of docs/DESIGN.md §3: emission K; reflectance the raw Y of rho == 1 on the
+/// grid, so that rho == 1 has Y = 1.
 inline double reference_norm(const WavelengthGrid& grid, const Observer& obs,
                              const std::vector<double>* illuminant) {
   if (!illuminant) return y_integral(obs);

@@ -1,5 +1,5 @@
 // WavelengthGrid: the default grid, parsing of "start:end:step", the errors a user sees for bad
-// grids, and the to_string() round trip (DESIGN §3).
+// grids, and the to_string() round trip (docs/DESIGN.md §3).
 
 #include "core/wavelength_grid.h"
 

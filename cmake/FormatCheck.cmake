@@ -1,0 +1,13 @@
+# Checks that every C++ source of the project follows .clang-format (the test clang_format and
+# `make format-check`). Invoked as: cmake -DSOURCE_DIR=dir -DCLANG_FORMAT=exe -P FormatCheck.cmake
+file(GLOB_RECURSE files RELATIVE "${SOURCE_DIR}"
+     "${SOURCE_DIR}/src/*.cpp" "${SOURCE_DIR}/src/*.h" "${SOURCE_DIR}/tests/*.cpp"
+     "${SOURCE_DIR}/tests/*.h" "${SOURCE_DIR}/oiio_plugin/*.cpp" "${SOURCE_DIR}/oiio_plugin/*.h"
+     "${SOURCE_DIR}/python/*.cpp")
+execute_process(COMMAND "${CLANG_FORMAT}" --dry-run --Werror ${files}
+                WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE status)
+list(LENGTH files count)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "clang-format: some of the ${count} files differ (run `make format`)")
+endif()
+message(STATUS "clang-format: ${count} files follow .clang-format")
