@@ -56,7 +56,13 @@ WavelengthGrid WavelengthGrid::parse(std::string_view spec) {
       throw Error("wavelength grid " + quote(spec) + ": " + quote(part) + " is not a number");
     if (i < 2) rest = rest.substr(colon + 1);
   }
-  return WavelengthGrid(v[0], v[1], v[2]);
+  try {
+    return WavelengthGrid(v[0], v[1], v[2]);
+  } catch (const Error& e) {
+    // "wavelength grid: why" -> "wavelength grid '380:781:5': why", naming what was given.
+    const std::string why = e.what();
+    throw Error("wavelength grid " + quote(spec) + why.substr(why.find(':')));
+  }
 }
 
 std::string WavelengthGrid::to_string() const {

@@ -67,7 +67,11 @@ std::string parse_compression(std::string_view text) {
   if (colon == std::string_view::npos) return std::string(name);
   const std::string_view level = text.substr(colon + 1);
   if (name == "zip" || name == "zips") {
-    whole(level, 1, 9);
+    try {
+      whole(level, 1, 9);
+    } catch (const Error& e) {
+      throw Error(quoted(text) + ": the zip level " + e.what());
+    }
   } else if (name == "dwaa" || name == "dwab") {
     double q = 0;
     auto r = std::from_chars(level.data(), level.data() + level.size(), q);

@@ -420,6 +420,32 @@ TEST(CliImage, GreyAndSixteenBitInputs) {
   EXPECT_EQ(read_json(s / "r.json")["mode"], "reflectance");
 }
 
+// Truth: the previews are the round trip of the input, whatever the reference illuminant: a
+// grey surface under A (a warm light) is still grey in the preview, at its own linear level
+// (the sRGB decoding of the 8-bit value, computed here), because the white balance to A is
+// undone for the preview (docs/DESIGN.md §3).
+TEST(CliImage, PreviewsAreTheInputUnderAnyReferenceIlluminant) {
+  Scratch s;
+  for (const char* illuminant : {"A", "FL11", "D50"}) {
+    SCOPED_TRACE(illuminant);
+    ASSERT_EQ(run(kImages + "grey_ramp8.png -o " + (s / "g.exr") +
+                  " --format float -q --illuminant " + illuminant)
+                  .exit_code,
+              0);
+    const e2e::Exr g = e2e::read_exr(s / "g.exr");
+    auto in = OIIO::ImageInput::open(kImages + "grey_ramp8.png");
+    ASSERT_TRUE(in);
+    std::vector<unsigned char> px(static_cast<std::size_t>(in->spec().width) * in->spec().height *
+                                  in->spec().nchannels);
+    ASSERT_TRUE(in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeUInt8, px.data()));
+    for (int x = 0; x < g.width; x += 3) {
+      const double v = px[static_cast<std::size_t>(3 * g.width + x) * in->spec().nchannels] / 255.0;
+      const double linear = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(g.at(x, 3, c), linear, 1e-4 + 1e-4 * linear) << x;
+    }
+  }
+}
+
 struct BadImage {
   const char* name;
   std::string args;  // {in} and {dir} are replaced

@@ -1,0 +1,252 @@
+// Units of the io layer, each against an independent truth: recipes (what they accept and
+// refuse), the input interpretation (channels, colour space and its reason), the spectral layout
+// analysis of other tools' channel names, ICC descriptions, colour tags, and the node cache's
+// file (round trip, and refusal of files that are not what they claim).
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/spectral_table.h"
+#include "io/colour_space.h"
+#include "io/colour_tags.h"
+#include "io/input_interpretation.h"
+#include "io/recipe.h"
+#include "io/rgb_from_spectral.h"
+#include "io/safe_output.h"
+#include "io/table_cache.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+namespace {
+
+OIIO::ImageSpec spec_of(std::vector<std::string> names, OIIO::TypeDesc type = OIIO::TypeFloat) {
+  OIIO::ImageSpec spec(8, 8, static_cast<int>(names.size()), type);
+  spec.channelnames = std::move(names);
+  spec.alpha_channel = -1;
+  return spec;
+}
+
+// --- Recipes ---
+
+TEST(Recipe, ParsesEveryKeyByTheSchemaAndResolvesTheSource) {
+  const Recipe r = parse_recipe(
+      R"({"source": "img/a.png", "mode": "reflectance", "wavelengths": "400:700:10",
+          "tile": 64, "filter": 0.5, "format": "float", "model": "smooth"})",
+      "/recipes/x.spectral");
+  EXPECT_EQ(r.source, "/recipes/img/a.png");
+  EXPECT_FALSE(r.to_rgb);
+  EXPECT_EQ(r.settings.mode, ModeChoice::reflectance);
+  EXPECT_EQ(r.settings.spectral.grid.size(), 31u);
+  EXPECT_EQ(r.settings.tile, 64);
+  EXPECT_EQ(r.settings.spectral.filter.to_string(), "0.5");
+  EXPECT_FALSE(r.settings.half);
+  EXPECT_EQ(r.settings.spectral.model, "smooth");
+  // Overrides (the plugin's spectral:<key> attributes) win over the file.
+  const Recipe o = parse_recipe(R"({"source": "a.png", "mode": "emission"})", "x.spectral",
+                                {{"mode", "reflectance"}});
+  EXPECT_EQ(o.settings.mode, ModeChoice::reflectance);
+}
+
+TEST(Recipe, RefusesWhatTheCliRefusesNamingTheRecipe) {
+  for (const char* text :
+       {R"([1, 2])", R"({"source": 3})", R"({"mode": "emission"})", R"({"source": "a", "x": 1})",
+        R"({"source": "a", "compression": "bogus"})", R"({"source": "a", "tile": 7})",
+        R"({"source": "a", "threads": ""})",
+        R"({"source": "a", "to": "rgb", "wavelengths": "400:700:10"})",
+        R"({"source": "a", "print_format": "json"})", R"({"source": "a", "to": "cmyk"})",
+        R"({"source": "a", "mode": true})", "{not json"}) {
+    try {
+      parse_recipe(text, "bad.spectral");
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.spectral"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(parse_recipe("{\"source\": \"" + std::string(70000, 'a') + "\"}", "big.spectral"),
+               Error);
+  EXPECT_TRUE(looks_like_recipe(R"({"source": "a.png"})"));
+  EXPECT_FALSE(looks_like_recipe(R"({"source": 1})"));
+}
+
+// --- Input interpretation ---
+
+TEST(InputInterpretation, ColourAndAlphaChannelsByName) {
+  ChannelRoles r = colour_channels(spec_of({"B", "G", "R", "A"}), "x.exr");
+  EXPECT_EQ(r.colour, (std::vector<int>{2, 1, 0}));
+  EXPECT_EQ(r.alpha, 3);
+  r = colour_channels(spec_of({"Y"}), "grey.png");
+  EXPECT_TRUE(r.grey());
+  r = colour_channels(spec_of({"Y", "A"}), "grey.png");
+  EXPECT_EQ(r.colour, std::vector<int>{0});
+  EXPECT_EQ(r.alpha, 1);
+  r = colour_channels(spec_of({"R", "G", "B", "Z"}), "depth.exr");
+  EXPECT_EQ(r.ignored, std::vector<std::string>{"Z"});
+  for (const auto& names :
+       std::vector<std::vector<std::string>>{{"R", "G"},
+                                             {"diffuse.R", "diffuse.G", "diffuse.B"},
+                                             {"S0.500,0nm", "S0.600,0nm"},
+                                             {"U", "V"}})
+    EXPECT_THROW(colour_channels(spec_of(names), "f.exr"), Error) << names[0];
+}
+
+TEST(InputInterpretation, ColourSpaceByCommandLineMetadataThenRoles) {
+  const ColourSpaces spaces = ColourSpaces::load();
+  Settings s;
+  // Roles of the shipped config by data type.
+  InputInterpretation in = interpret_input("a.exr", spec_of({"R", "G", "B"}), s, spaces);
+  EXPECT_EQ(in.colorspace, "Linear Rec.709 (sRGB)");
+  EXPECT_NE(in.colorspace_reason.find("scene_linear"), std::string::npos);
+  EXPECT_EQ(in.mode, Mode::emission);
+  in = interpret_input("a.png", spec_of({"R", "G", "B"}, OIIO::TypeUInt8), s, spaces);
+  EXPECT_EQ(in.colorspace, "sRGB - Texture");
+  EXPECT_EQ(in.mode, Mode::reflectance);
+  // EXR chromaticities of ACES AP1 with the ACES white: ACEScg.
+  OIIO::ImageSpec ap1 = spec_of({"R", "G", "B"});
+  const float xy[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+  ap1.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy);
+  EXPECT_EQ(interpret_input("a.exr", ap1, s, spaces).colorspace, "ACEScg");
+  // colorInteropID.
+  OIIO::ImageSpec tagged = spec_of({"R", "G", "B"});
+  tagged.attribute("colorInteropID", "lin_rec2020_scene");
+  EXPECT_EQ(interpret_input("a.exr", tagged, s, spaces).colorspace, "Linear Rec.2020");
+  // The command line wins over everything.
+  s.colorspace = "acescg";
+  in = interpret_input("a.exr", tagged, s, spaces);
+  EXPECT_EQ(in.colorspace, "ACEScg");
+  EXPECT_EQ(in.colorspace_reason, "--colorspace");
+}
+
+TEST(InputInterpretation, IccDescriptionsOfBothVersions) {
+  // Version 2 'desc': ASCII with a count.
+  std::vector<unsigned char> v2(128, 0);
+  auto be32 = [](std::vector<unsigned char>& v, std::uint32_t x) {
+    for (int i = 3; i >= 0; --i) v.push_back(static_cast<unsigned char>(x >> (8 * i)));
+  };
+  be32(v2, 1);
+  v2.insert(v2.end(), {'d', 'e', 's', 'c'});
+  be32(v2, 144);
+  be32(v2, 29);
+  v2.insert(v2.end(), {'d', 'e', 's', 'c', 0, 0, 0, 0});
+  be32(v2, 17);
+  for (char c : std::string("sRGB IEC61966-2.1")) v2.push_back(static_cast<unsigned char>(c));
+  EXPECT_EQ(icc_description(v2.data(), v2.size()), "sRGB IEC61966-2.1");
+  // Version 4 'mluc': one UTF-16BE record.
+  std::vector<unsigned char> v4(128, 0);
+  be32(v4, 1);
+  v4.insert(v4.end(), {'d', 'e', 's', 'c'});
+  be32(v4, 144);
+  be32(v4, 28 + 8);
+  v4.insert(v4.end(), {'m', 'l', 'u', 'c', 0, 0, 0, 0});
+  be32(v4, 1);
+  be32(v4, 12);
+  v4.insert(v4.end(), {'e', 'n', 'U', 'S'});
+  be32(v4, 8);
+  be32(v4, 28);
+  for (char c : std::string("P3-X")) v4.insert(v4.end(), {0, static_cast<unsigned char>(c)});
+  EXPECT_EQ(icc_description(v4.data(), v4.size()), "P3-X");
+  // Truncated or empty profiles never crash.
+  EXPECT_EQ(icc_description(v2.data(), 140), "");
+  EXPECT_EQ(icc_description(nullptr, 0), "");
+}
+
+// --- Colour tags ---
+
+TEST(ColourTags, KnownSpacesGetTheirStandardsPrimariesAndIds) {
+  const ColourSpaces spaces = ColourSpaces::load();
+  EXPECT_EQ(spaces.interop_id("ACEScg"), "lin_ap1_scene");
+  EXPECT_EQ(spaces.interop_id("Linear Rec.709 (sRGB)"), "lin_rec709_scene");
+  EXPECT_EQ(spaces.interop_id("sRGB - Texture"), "srgb_rec709_scene");
+  EXPECT_EQ(spaces.interop_id("Adobe RGB (1998) - Texture"), "g22_adobergb_scene");
+  EXPECT_EQ(spaces.interop_id("Raw"), "data");
+  EXPECT_EQ(spaces.interop_id("ACEScct"), "");
+  EXPECT_TRUE(spaces.is_linear("ACEScg"));
+  EXPECT_FALSE(spaces.is_linear("sRGB - Texture"));
+  OIIO::ImageSpec spec = spec_of({"R", "G", "B"});
+  spec.attribute("colorInteropID", "lin_ap0_scene");
+  spec.attribute("ICCProfile:device_class", "mntr");
+  tag_colour_space(spec, spaces, "Linear Rec.2020");
+  EXPECT_EQ(spec.get_string_attribute("colorInteropID"), "lin_rec2020_scene");
+  EXPECT_EQ(spec.find_attribute("ICCProfile:device_class"), nullptr);
+  const auto* c = spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(static_cast<const float*>(c->data())[0], 0.708f, 1e-5);
+  // An encoded space has no chromaticities attribute (EXR's convention is linear light).
+  tag_colour_space(spec, spaces, "sRGB - Texture");
+  EXPECT_EQ(spec.find_attribute("chromaticities"), nullptr);
+}
+
+// --- Spectral layouts of other tools ---
+
+TEST(SpectralLayout, ChannelsSortedByWavelengthAndStrangeOnesNamed) {
+  const auto info = analyse_spectral_layout(
+      spec_of({"A", "S0.1000,0nm", "S0.950,0nm", "S0.0,55um", "S0.5x0nm", "R"}), "f.exr");
+  EXPECT_EQ(info.wavelengths, (std::vector<double>{550, 950, 1000}));
+  EXPECT_EQ(info.band_channels, (std::vector<int>{3, 2, 1}));
+  EXPECT_EQ(info.alpha, 0);
+  EXPECT_EQ(info.unparsed, std::vector<std::string>{"S0.5x0nm"});
+  EXPECT_THROW(
+      analyse_spectral_layout(spec_of({"T.500,0nm", "T.500,0nm.510,0nm", "T.510,0nm"}), "bi.exr"),
+      Error);
+  EXPECT_THROW(analyse_spectral_layout(spec_of({"S0.900,0nm", "S0.950,0nm"}), "ir.exr"), Error);
+  EXPECT_THROW(analyse_spectral_layout(spec_of({"S0.500,0nm", "T.600,0nm"}), "mixed.exr"), Error);
+}
+
+// --- The node cache's file ---
+
+TEST(TableCache, RoundTripAndRefusals) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("cache_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  SpectralizerSettings ss;
+  const Spectralizer sp(ss);
+  SpectralTable made(sp);
+  const Xyz c{0.3, 0.35, 0.4};
+  std::vector<float> out(sp.settings().grid.size());
+  PixelResult res;
+  made.spectra(&c, 1, out.data(), &res);
+  const std::string key = "test key";
+  const std::string file = table_cache_file(dir.string(), key);
+  // Stable name: FNV-1a of the key (documented), whatever the standard library.
+  EXPECT_EQ(fs::path(file).filename(), "spectralize-table-ee323c675103fedc.bin");
+  EXPECT_EQ(save_table_cache(made, file, key), "");
+  SpectralTable loaded(sp);
+  EXPECT_EQ(load_table_cache(loaded, file, key), "");
+  EXPECT_EQ(loaded.stats().nodes_loaded, 4u);
+  SpectralTable other(sp);
+  EXPECT_NE(load_table_cache(other, file, "another key").find("other settings"), std::string::npos);
+  // Truncated by one byte: the checksum catches it.
+  fs::resize_file(file, fs::file_size(file) - 1);
+  EXPECT_NE(load_table_cache(other, file, key), "");
+  // A directory or a FIFO where the file should be: refused without blocking.
+  fs::remove(file);
+  fs::create_directory(file);
+  EXPECT_EQ(load_table_cache(other, file, key), "is a directory");
+  EXPECT_NE(save_table_cache(made, file, key), "");
+  fs::remove(file);
+  EXPECT_EQ(load_table_cache(other, file, key), "");  // absent: nothing to load, no complaint
+  fs::remove_all(dir);
+}
+
+// --- Messages ---
+
+TEST(Messages, LongValuesAreClipped) {
+  const std::string big(100000, 'x');
+  EXPECT_LT(clip(big).size(), 120u);
+  EXPECT_NE(clip(big).find("100000 bytes"), std::string::npos);
+  EXPECT_EQ(clip("short"), "short");
+  EXPECT_LT(quote(big).size(), 120u);
+  try {
+    ColourSpaces::load().resolve(big);
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_LT(std::string(e.what()).size(), 5000u);
+  }
+}
+
+}  // namespace
+}  // namespace spectralize
