@@ -62,6 +62,11 @@ class SpectralConverter {
   PixelCounts counts() const;
 
  private:
+  void load_colours(const float* in, std::size_t b, std::size_t m, float* rgb, float* alpha,
+                    PixelCounts& c) const;
+  void finish_pixel(float* o, const PixelResult& r, float scale, float alpha, float* preview_xyz,
+                    PixelCounts& c) const;
+
   Setup s_;
   std::size_t bands_ = 0;
   int out_nch_ = 0;

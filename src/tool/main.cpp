@@ -153,19 +153,21 @@ auto store(std::vector<std::pair<std::string, std::string>>& given, std::string 
   return [&given, flag](OIIO::cspan<const char*> args) { given.emplace_back(flag, args[1]); };
 }
 
-// Reads the command line into `opt`; throws UsageError.
-void parse(int argc, const char** argv, Options& opt, bool& help, bool& version) {
-  // "--" ends the options: what follows are input files, whatever their names.
+using Given = std::vector<std::pair<std::string, std::string>>;
+
+// Parses argv with OIIO's ArgParse into (flag, value) pairs and positional inputs; "--" ends
+// the options (what follows are input files, whatever their names). Throws UsageError.
+Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& version) {
   std::vector<const char*> args;
   std::vector<std::string> after_dashes;
   for (int i = 0; i < argc; ++i) {
-    if (std::string(argv[i]) == "--" && i > 0) {
+    if (i > 0 && std::string(argv[i]) == "--") {
       for (int k = i + 1; k < argc; ++k) after_dashes.emplace_back(argv[k]);
       break;
     }
     args.push_back(argv[i]);
   }
-  std::vector<std::pair<std::string, std::string>> given;
+  Given given;
   OIIO::ArgParse ap;
   ap.add_help(false).exit_on_error(false);
   ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) {
@@ -194,56 +196,37 @@ void parse(int argc, const char** argv, Options& opt, bool& help, bool& version)
   if (ap.parse_args(static_cast<int>(args.size()), args.data()) < 0)
     throw UsageError{clip(ap.geterror(), 300)};
   for (auto& f : after_dashes) opt.inputs.push_back(std::move(f));
-  if (help || version) return;
+  return given;
+}
 
-  for (const auto& [flag, value] : given) {
-    opt.given.insert(flag);
-    if (flag == "--color") opt.colors.push_back(value);
-    if (flag == "--plot-pixel") opt.plot_pixels.push_back(value);
-  }
-  auto last = [&](const char* flag) {
-    std::string v;
-    for (const auto& [f, value] : given)
-      if (f == flag) v = value;
-    return v;
-  };
-  opt.output = last("-o");
-  opt.report = last("--report");
-  opt.to_rgb = last("--to-rgb");
-  for (const char* f : {"-o", "--report", "--to-rgb"})
-    if (opt.given.count(f) && last(f).empty())
-      throw UsageError{std::string(f) + ": an empty file name"};
-
-  // The command.
-  if (!opt.plot_pixels.empty()) {
-    opt.command = kPlotPixel;
-  } else if (!opt.colors.empty()) {
+// Which command the flags and inputs ask for; names the common slips. Throws UsageError.
+Command choose_command(const Options& opt) {
+  if (!opt.plot_pixels.empty()) return kPlotPixel;
+  if (!opt.colors.empty()) {
     if (!opt.inputs.empty()) {
       bool numbers = true;
       for (const std::string& in : opt.inputs)
         numbers = numbers && in.find_first_not_of("0123456789.+-eE") == std::string::npos;
-      throw UsageError{numbers ? "--color takes R,G,B as one argument with commas: --color " +
-                                     clip(opt.colors.back()) + "," + opt.inputs[0] +
-                                     (opt.inputs.size() > 1 ? "," + opt.inputs[1] : "")
-                               : "give one of --color, --to-rgb or an input image, not several"};
+      if (numbers)
+        throw UsageError{"--color takes R,G,B as one argument with commas: --color " +
+                         clip(opt.colors.back()) + "," + opt.inputs[0] +
+                         (opt.inputs.size() > 1 ? "," + opt.inputs[1] : "")};
+      throw UsageError{"give one of --color, --to-rgb or an input image, not several"};
     }
-    opt.command = kColor;
-  } else if (opt.given.count("--to-rgb")) {
+    return !opt.output.empty() && is_plot_path(opt.output) ? kPlotColor : kColor;
+  }
+  if (opt.given.count("--to-rgb")) {
     if (!opt.inputs.empty()) throw UsageError{"give one of --to-rgb or an input image, not both"};
-    opt.command = kToRgb;
-  } else if (!opt.inputs.empty() || opt.given.count("-o")) {
-    opt.command = kImage;
-  } else {
-    throw UsageError{
-        "nothing to do: give INPUT -o OUTPUT.exr, --to-rgb IN.exr -o OUT.exr or "
-        "--color R,G,B"};
+    return kToRgb;
   }
-  if (opt.command == kColor && !opt.output.empty()) {
-    // -o naming an image or an .svg: draw the spectra.
-    if (is_plot_path(opt.output)) opt.command = kPlotColor;
-  }
+  if (!opt.inputs.empty() || opt.given.count("-o")) return kImage;
+  throw UsageError{
+      "nothing to do: give INPUT -o OUTPUT.exr, --to-rgb IN.exr -o OUT.exr or "
+      "--color R,G,B"};
+}
 
-  // Every flag must apply to the command, and every value must pass the schema.
+// Every flag must apply to the command, and every value must pass the schema.
+void apply_flags(const Given& given, Options& opt) {
   for (const auto& [flag, value] : given) {
     bool command_flag = false;
     for (const CommandFlag& f : kCommandFlags)
@@ -263,6 +246,25 @@ void parse(int argc, const char** argv, Options& opt, bool& help, bool& version)
       throw UsageError{e.what()};
     }
   }
+}
+
+// Reads the command line into `opt`; throws UsageError.
+void parse(int argc, const char** argv, Options& opt, bool& help, bool& version) {
+  const Given given = read_flags(argc, argv, opt, help, version);
+  if (help || version) return;
+  for (const auto& [flag, value] : given) {
+    opt.given.insert(flag);
+    if (flag == "--color") opt.colors.push_back(value);
+    if (flag == "--plot-pixel") opt.plot_pixels.push_back(value);
+    if (flag == "-o") opt.output = value;
+    if (flag == "--report") opt.report = value;
+    if (flag == "--to-rgb") opt.to_rgb = value;
+  }
+  for (const auto& [flag, value] : given)
+    if ((flag == "-o" || flag == "--report" || flag == "--to-rgb") && value.empty())
+      throw UsageError{flag + ": an empty file name"};
+  opt.command = choose_command(opt);
+  apply_flags(given, opt);
 }
 
 }  // namespace
