@@ -35,7 +35,7 @@ ModelSolution SmoothModel::solve(const Xyz& t, double upper) const {
 
 ModelInfo smooth_model_info() {
   return {"smooth",
-          "the smoothest exact spectrum within the bounds (least slope and curvature)",
+          "the smoothest exact spectrum within the bounds: least slope and curvature",
           {"curvature"},
           [](const ModelContext& c) { return std::make_unique<SmoothModel>(c); }};
 }

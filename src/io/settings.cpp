@@ -84,6 +84,18 @@ std::string parse_compression(std::string_view text) {
   return std::string(text);
 }
 
+// The models of the registry, for --help: "paper (the paper's average ...) or smooth (...)".
+std::string model_help() {
+  std::string text = "How the spectrum is chosen among the exact ones: ";
+  const auto& models = spectrum_models();
+  for (std::size_t i = 0; i < models.size(); ++i)
+    text += (i == 0                   ? ""
+             : i + 1 == models.size() ? " or "
+                                      : ", ") +
+            std::string(models[i].name) + " (" + std::string(models[i].summary) + ")";
+  return text;
+}
+
 std::vector<SettingSpec> make_schema() {
   std::vector<SettingSpec> s;
   s.push_back({"colorspace", "--colorspace", "NAME", "",
@@ -123,10 +135,7 @@ std::vector<SettingSpec> make_schema() {
        [](Settings& v, std::string_view t) { v.spectral.illuminant = Illuminant::get(t).name; },
        [](const Settings& v) { return v.spectral.illuminant; }, is_reflectance});
   s.push_back(
-      {"model", "--model", "NAME", "model",
-       "How the spectrum is chosen among the exact ones: paper (the average of the "
-       "admissible partial solutions) or smooth (the smoothest within the bounds)",
-       kSpectrumCommands, true, true,
+      {"model", "--model", "NAME", "model", model_help(), kSpectrumCommands, true, true,
        [](Settings& v, std::string_view t) { v.spectral.model = std::string(find_model(t).name); },
        [](const Settings& v) { return v.spectral.model; }, nullptr});
   s.push_back({"filter", "--filter", "K", "filter",

@@ -53,7 +53,7 @@ struct SettingSpec {
   std::string_view flag;       // command-line flag, e.g. "--emission-basis"
   std::string_view metavar;    // its value in --help, e.g. "NAME"
   std::string_view attribute;  // EXR attribute (after "spectralize:"), "" if not written
-  std::string_view help;       // one sentence, without the default
+  std::string help;            // one sentence, without the default
   unsigned commands = 0;       // Command bits it applies to
   bool recipe = true;          // accepted in .spectral recipes
   bool spectral = false;       // node spectra depend on it: part of the cache key
