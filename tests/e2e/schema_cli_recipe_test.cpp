@@ -36,7 +36,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kValues = {
     {"config", {SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", "/no/such.ocio"}},
 };
 
-TEST(SchemaCliRecipe, AcceptAndRefuseTheSameValues) {
+TEST(SchemaCliRecipeSlow, AcceptAndRefuseTheSameValues) {
   e2e::Scratch s("spectralize_schema");
   const std::string in = kImages + "grey_ramp8.png";
   for (const spectralize::SettingSpec& spec : spectralize::settings_schema()) {
