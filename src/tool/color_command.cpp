@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -43,11 +44,14 @@ Json result_json(const Rgb& rgb, const std::string& space, const Options& opt,
   j["xyz"] = xyz_json(r.xyz);
   j["relative_error"] = r.relative_error;
   // The model's own details (the paper model: admissible, dropped, bounded, edge_capped).
-  for (const ModelDetail& d : r.details)
+  for (const ModelDetail& d : r.details) {
     if (d.boolean)
       j[d.name] = d.value != 0;
+    else if (d.value == std::floor(d.value) && std::abs(d.value) < 9e15)
+      j[d.name] = static_cast<long long>(d.value);  // counts print as integers
     else
       j[d.name] = d.value;
+  }
   j["fallback"] = r.fallback;
   j["gamut_distance"] = r.gamut_distance;
   Json wl = Json::array(), values = Json::array();

@@ -98,29 +98,7 @@ int run_image(const Options& opt) {
   const ImageReport r =
       run_image_job(input, opt.output, s, console_progress(opt.verbosity, input), log);
 
-  // Warnings about what was not a plain exact conversion.
   const PixelCounts& c = r.counts;
-  if (c.invalid > 0)
-    log(0, fmt::format("'{}': {} pixels are NaN or infinite: written as zero spectra", r.input,
-                       c.invalid));
-  if (c.alpha_invalid > 0)
-    log(0, fmt::format("'{}': {} pixels have an alpha that is NaN, infinite or outside 0..1: "
-                       "written clamped to 0..1 (NaN as 0)",
-                       r.input, c.alpha_invalid));
-  if (r.out_of_gamut_pixels() > 0)
-    log(0, fmt::format("'{}': {} pixels out of gamut and mapped ({} negative luminance -> black, "
-                       "{} outside the spectral locus, {} outside the reflectance solid)",
-                       r.input, r.out_of_gamut_pixels(), c.negative, c.outside_locus,
-                       c.outside_solid));
-  if (c.brighter_than_white > 0)
-    log(0, fmt::format("'{}': {} pixels are brighter than a white surface (reflectances are "
-                       "0..1; is this light, --mode emission, or data in other units?): dimmed "
-                       "into the reflectance solid",
-                       r.input, c.brighter_than_white));
-  if (c.half_overflow > 0)
-    log(0, fmt::format("'{}': {} pixels have samples above HALF's maximum 65504 and were clamped; "
-                       "use --format float to keep them",
-                       r.output, c.half_overflow));
   write_report(report.get(), report_json(r));
   if (opt.verbosity > 0) {
     fmt::print(stderr,
