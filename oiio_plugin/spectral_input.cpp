@@ -186,7 +186,8 @@ bool SpectralInput::fill_strip(int y) {
     if (conversion_)
       conversion_->convert(in_rows_.data(), n, strip_.data());
     else
-      to_rgb_->convert(in_rows_.data(), src.nchannels, n, strip_.data(), settings_.half);
+      to_rgb_->convert(in_rows_.data(), src.nchannels, n, strip_.data(),
+                       spectralize::rgb_sample_type(settings_));
   } catch (const std::exception& e) {
     errorfmt("'{}': {}", recipe_path_, e.what());
     strip_y0_ = strip_y1_ = 0;

@@ -169,6 +169,10 @@ std::vector<std::string> Observer::names() {
 
 Illuminant Illuminant::get(std::string_view name) {
   std::string n = lower(name);
+  // "F11" is how the paper and most tools name CIE FL11 (F1..F12).
+  if (n.size() >= 2 && n.size() <= 3 && n[0] == 'f' &&
+      std::all_of(n.begin() + 1, n.end(), [](char c) { return std::isdigit(c); }))
+    n = "fl" + n.substr(1);
   Illuminant il;
   if (n == "d65") {
     il = {"D65", embedded_column_on_reference("cie_illuminant_d65_1nm.csv", "value")};

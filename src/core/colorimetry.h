@@ -41,7 +41,8 @@ struct Illuminant {
   std::vector<double> spd;  // ReferenceTable::kSize values
 
   /// The illuminant `name` (case-insensitive): D65, D50, A, C, E, D<cct/100> (e.g. D55, D75;
-  /// daylight series from S0..S2), FL1..FL12, FL3.1..FL3.15, HP1..HP5, LED-*. Tables given only
+  /// daylight series from S0..S2), FL1..FL12 (also F1..F12), FL3.1..FL3.15, HP1..HP5, LED-*.
+  /// Tables given only
   /// on 380..780 nm or at 5 nm are interpolated linearly and extended by their end values
   /// (CIE 015's advice). Throws Error listing the names. Cost: O(table) per call.
   static Illuminant get(std::string_view name);

@@ -26,19 +26,31 @@ const ConfigPtr& config_of(const std::shared_ptr<const void>& p) {
   return *static_cast<const ConfigPtr*>(p.get());
 }
 
-// The XYZ-D65 space of a config: the cie_xyz_d65_interchange role, else a space so named.
-std::string xyz_space_of(const ConfigPtr& config) {
+// How a config reaches CIE XYZ (D65): its XYZ space, or, for configs without one (classic
+// OCIO v1 ACES configs), its ACES2065-1 space followed by OCIO's built-in Bradford transform.
+struct XyzRoute {
+  std::string space;     // the config's space to convert to (or from)
+  bool via_ap0 = false;  // then OCIO's built-in AP0 -> XYZ-D65 (Bradford)
+};
+
+XyzRoute xyz_route_of(const ConfigPtr& config) {
   if (config->hasRole("cie_xyz_d65_interchange")) {
     auto cs = config->getColorSpace("cie_xyz_d65_interchange");
-    if (cs) return cs->getName();
+    if (cs) return {cs->getName(), false};
   }
   for (const char* name : {"CIE-XYZ-D65", "CIE XYZ-D65 - Scene-referred", "cie_xyz_d65"}) {
     auto cs = config->getColorSpace(name);
-    if (cs) return cs->getName();
+    if (cs) return {cs->getName(), false};
+  }
+  // Derived from the config's ACES2065-1 space where it has one (OCIO knows AP0 exactly).
+  for (const char* name :
+       {"aces_interchange", "ACES2065-1", "ACES - ACES2065-1", "aces2065_1", "lin_ap0"}) {
+    auto cs = config->getColorSpace(name);
+    if (cs && !cs->isData()) return {cs->getName(), true};
   }
   throw Error(
-      "the OCIO config has no CIE-XYZ-D65 colour space (nor a cie_xyz_d65_interchange "
-      "role) to convert into");
+      "the OCIO config has no CIE-XYZ-D65 colour space, no cie_xyz_d65_interchange role and no "
+      "ACES2065-1 space to derive CIE XYZ from; add one of them to the config");
 }
 
 }  // namespace
@@ -57,12 +69,24 @@ Xyz ColourTransform::operator()(double r, double g, double b) const {
 }
 
 ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
+  // OCIO logs its own opinions of a config (inactive spaces, deprecated keys) on stderr;
+  // spectralize reports what matters to the job itself, naming the config.
+  static const bool quiet = [] {
+    OCIO::SetLoggingLevel(OCIO::LOGGING_LEVEL_NONE);
+    return true;
+  }();
+  (void)quiet;
   ColourSpaces cs;
   ConfigPtr config;
   std::string where;
   try {
     if (!explicit_path.empty()) {
       where = explicit_path;
+      if (explicit_path.rfind("ocio://", 0) == 0)
+        throw Error(
+            "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this build "
+            "uses OpenColorIO " +
+            std::string(OCIO::GetVersion()) + ": give the path of a config file");
       check_readable_file(explicit_path, "OCIO config");
       config = OCIO::Config::CreateFromFile(explicit_path.c_str());
       cs.origin_ = explicit_path;
@@ -80,9 +104,11 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
     config->validate();
   } catch (const OCIO::Exception& e) {
     throw Error("OCIO config '" + where + "': " + clip(e.what(), 300));
-  } catch (const Error& e) {  // not a readable regular file
+  } catch (const Error& e) {  // not a readable regular file, or a built-in config
     const std::string why = e.what();
-    throw Error("OCIO config '" + where + "': " + why.substr(why.find("): ") + 3));
+    const std::size_t at = why.find("): ");
+    throw Error("OCIO config '" + where +
+                "': " + (at == std::string::npos ? why : why.substr(at + 3)));
   }
   cs.config_ = std::make_shared<const ConfigPtr>(config);
   return cs;
@@ -141,14 +167,82 @@ ColourTransform ColourSpaces::transform(std::string_view space, bool to_xyz) con
   ColourTransform t;
   t.source_ = resolve(space);
   try {
-    const std::string xyz = xyz_space_of(config);
-    auto processor = to_xyz ? config->getProcessor(t.source_.c_str(), xyz.c_str())
-                            : config->getProcessor(xyz.c_str(), t.source_.c_str());
+    const XyzRoute route = xyz_route_of(config);
+    auto group = OCIO::GroupTransform::Create();
+    auto convert = OCIO::ColorSpaceTransform::Create();
+    convert->setSrc(to_xyz ? t.source_.c_str() : route.space.c_str());
+    convert->setDst(to_xyz ? route.space.c_str() : t.source_.c_str());
+    auto ap0 = OCIO::BuiltinTransform::Create();
+    ap0->setStyle("UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD");
+    ap0->setDirection(to_xyz ? OCIO::TRANSFORM_DIR_FORWARD : OCIO::TRANSFORM_DIR_INVERSE);
+    if (!to_xyz && route.via_ap0) group->appendTransform(ap0);
+    group->appendTransform(convert);
+    if (to_xyz && route.via_ap0) group->appendTransform(ap0);
+    auto processor = config->getProcessor(group);
     t.processor_ = std::make_shared<const CpuPtr>(processor->getDefaultCPUProcessor());
   } catch (const OCIO::Exception& e) {
     throw Error("OCIO cannot convert between '" + t.source_ + "' and CIE-XYZ-D65: " + e.what());
   }
   return t;
+}
+
+ColourTransform ColourSpaces::display_from_xyz(const std::string& display,
+                                               const std::string& view) const {
+  const ConfigPtr& config = config_of(config_);
+  ColourTransform t;
+  const char* d = display.c_str();
+  bool known = false;
+  for (int i = 0; i < config->getNumDisplays(); ++i)
+    known = known || display == config->getDisplay(i);
+  if (!known) {
+    std::string valid;
+    for (int i = 0; i < config->getNumDisplays(); ++i)
+      valid += (i ? ", " : "") + std::string(config->getDisplay(i));
+    throw Error("unknown display " + quote(display) + " in OCIO config '" + origin_ +
+                "' (valid: " + valid + ")");
+  }
+  const std::string v = view.empty() ? config->getDefaultView(d) : view;
+  bool view_known = false;
+  std::string views;
+  for (int i = 0; i < config->getNumViews(d); ++i) {
+    view_known = view_known || v == config->getView(d, i);
+    views += (i ? ", " : "") + std::string(config->getView(d, i));
+  }
+  if (!view_known)
+    throw Error("unknown view " + quote(v) + " of display '" + display + "' (valid: " + views +
+                ")");
+  t.source_ = display + " / " + v;
+  try {
+    const XyzRoute route = xyz_route_of(config);
+    auto group = OCIO::GroupTransform::Create();
+    if (route.via_ap0) {
+      auto ap0 = OCIO::BuiltinTransform::Create();
+      ap0->setStyle("UTILITY - ACES-AP0_to_CIE-XYZ-D65_BFD");
+      ap0->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
+      group->appendTransform(ap0);
+    }
+    auto dv = OCIO::DisplayViewTransform::Create();
+    dv->setSrc(route.space.c_str());
+    dv->setDisplay(d);
+    dv->setView(v.c_str());
+    group->appendTransform(dv);
+    auto processor = config->getProcessor(group);
+    t.processor_ = std::make_shared<const CpuPtr>(processor->getDefaultCPUProcessor());
+  } catch (const OCIO::Exception& e) {
+    throw Error("OCIO cannot convert CIE-XYZ-D65 to display '" + display + "', view '" + v +
+                "': " + e.what());
+  }
+  return t;
+}
+
+std::string ColourSpaces::display_colour_space(const std::string& display,
+                                               const std::string& view) const {
+  const ConfigPtr& config = config_of(config_);
+  const std::string v = view.empty() ? config->getDefaultView(display.c_str()) : view;
+  std::string name = config->getDisplayViewColorSpaceName(display.c_str(), v.c_str());
+  if (name == "<USE_DISPLAY_NAME>") name = display;  // OCIO's shared views
+  auto cs = config->getColorSpace(name.c_str());
+  return cs ? cs->getName() : "";
 }
 
 std::string ColourSpaces::role(std::string_view role) const {

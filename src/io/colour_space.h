@@ -68,11 +68,19 @@ class ColourSpaces {
   std::vector<std::string> names() const;
   /// Every colour-space name with its aliases, "Name (alias1, alias2)". Cost: O(spaces).
   std::vector<std::string> describe() const;
-  /// A converter from `space` to CIE-XYZ-D65; throws Error for unknown spaces or configs without
-  /// an XYZ-D65 space. Cost: OCIO processor build, ~ms (cached by OCIO).
+  /// A converter from `space` to CIE-XYZ-D65: to the config's XYZ space (the
+  /// cie_xyz_d65_interchange role, or a space of a known name), else to its ACES2065-1 space and
+  /// on by OCIO's built-in Bradford transform (classic v1 ACES configs); throws Error for unknown
+  /// spaces or configs without any of them. Cost: OCIO processor build, ~ms (cached by OCIO).
   ColourTransform to_xyz(std::string_view space) const;
   /// A converter from CIE-XYZ-D65 to `space`; throws Error as to_xyz. Cost: as to_xyz.
   ColourTransform from_xyz(std::string_view space) const;
+  /// A converter from CIE-XYZ-D65 to an OCIO display and view (the display's default view when
+  /// `view` is empty); throws Error naming the valid displays or views. Cost: as to_xyz.
+  ColourTransform display_from_xyz(const std::string& display, const std::string& view) const;
+  /// The colour space a display's view ends in (to tag files), or "" if the config does not
+  /// name one. Cost: O(1).
+  std::string display_colour_space(const std::string& display, const std::string& view) const;
 
  private:
   ColourTransform transform(std::string_view space, bool to_xyz) const;

@@ -26,6 +26,9 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
                                  const std::string& format_name, bool straight_alpha,
                                  const Settings& settings, const LogFn& log)
     : parts_(std::make_unique<Parts>()) {
+  if (settings.integer_bits != 0)
+    throw Error("format uint" + std::to_string(settings.integer_bits) +
+                ": a spectral OpenEXR stores half or float samples");
   ImageReport& rep = report_;
   auto warn = [&](const std::string& message) {
     rep.warnings.push_back(message);
@@ -85,7 +88,8 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   std::string date_warning;
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
-  rep.preview_colorspace = default_colour_space(spaces, true).first;
+  rep.preview_colorspace = s.preview_colorspace.empty() ? default_colour_space(spaces, true).first
+                                                        : spaces.resolve(s.preview_colorspace);
   p.layout = spectral_exr_layout(
       {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{

@@ -47,6 +47,10 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
   file.commit();
 }
 
+bool writes_through_proxy(const std::string& format) {
+  return format == "openexr" || format == "png" || format == "jpeg" || format == "hdr";
+}
+
 std::string find_font() {
   for (const char* f :
        {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "/usr/share/fonts/dejavu/DejaVuSans.ttf",

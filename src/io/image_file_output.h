@@ -14,6 +14,11 @@ namespace spectralize {
 void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc type,
                       std::span<const std::string> inputs = {});
 
+/// True for the formats whose OIIO 2.4 writers write correctly through an IOProxy (OpenEXR,
+/// PNG, JPEG, Radiance HDR); others (TIFF leaves an unreadable file) are written by name.
+/// Cost: O(1).
+bool writes_through_proxy(const std::string& format);
+
 /// The first DejaVu Sans of the usual font folders (Debian's fonts-dejavu-core first), or "".
 /// Cost: a few stat calls.
 std::string find_font();

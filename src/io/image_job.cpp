@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/image_conversion.h"
+#include "io/image_file_output.h"
 #include "io/image_input.h"
 #include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
@@ -50,9 +51,12 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const std::string& output = file.destination();
   auto writer = OIIO::ImageOutput::create(format);
   if (!writer) throw Error("OpenImageIO has no " + format + " writer: " + OIIO::geterror());
-  // Every byte goes through the checked proxy, so a full disk or a file-size limit is an
-  // error here, not a truncated file at the destination.
-  if (!writer->set_ioproxy(file.proxy()) || !writer->open(output, ospec))
+  if (ospec.tile_width > 0 && !writer->supports("tiles"))
+    throw Error("'" + output + "': " + format + " files cannot be tiled (leave out --tile)");
+  // Every byte goes through the checked proxy where the writer uses one correctly, so a full
+  // disk or a file-size limit is an error here, not a truncated file at the destination.
+  const bool proxied = writes_through_proxy(format) && writer->set_ioproxy(file.proxy());
+  if (!writer->open(proxied ? output : file.path(), ospec))
     throw Error("'" + output + "': cannot write: " + writer->geterror());
 
   // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows), output tiles and
@@ -153,10 +157,22 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   ToRgbReport rep;
   rep.input = input;
   rep.output = output;
-  rep.output_format = "openexr";
   ImageReader reader(input, 4);
   const OIIO::ImageSpec& spec = reader.spec();
   const SpectralLayoutInfo layout = analyse_spectral_layout(spec, input);
+  // Any format OIIO writes, by the output's extension.
+  {
+    auto probe = OIIO::ImageOutput::create(output);
+    if (!probe) {
+      (void)OIIO::geterror();
+      throw Error("'" + output + "': OpenImageIO cannot write this file type");
+    }
+    rep.output_format = probe->format_name();
+  }
+  const OIIO::TypeDesc type = rgb_sample_type(settings);
+  if (rep.output_format == "openexr" && settings.integer_bits != 0)
+    throw Error("'" + output + "': OpenEXR stores half or float samples, not uint" +
+                std::to_string(settings.integer_bits));
   AtomicOutput file(output, std::span<const std::string>(&input, 1));
   limit_threads(settings.threads);
   auto warn = [&](const std::string& message) {
@@ -167,7 +183,10 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   rep.settings = settings;
   rep.settings.spectral.mode = layout.emissive ? Mode::emission : Mode::reflectance;
   const RgbFromSpectral to_rgb(layout, settings, spaces);
-  rep.colorspace = settings.colorspace;
+  rep.colorspace = settings.display.empty()
+                       ? settings.colorspace
+                       : settings.display + " / " +
+                             (settings.view.empty() ? std::string("default view") : settings.view);
   rep.kind = layout.emissive ? "emissive" : "reflective";
   rep.width = spec.width;
   rep.height = spec.height;
@@ -189,21 +208,28 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
   const OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
+  if (settings.integer_bits != 0 && settings.display.empty() &&
+      spaces.is_linear(settings.colorspace))
+    warn("'" + output + "': linear '" + settings.colorspace + "' in " +
+         std::to_string(settings.integer_bits) +
+         "-bit samples bands in the shadows; an encoded space (--colorspace \"sRGB - Texture\") "
+         "or --display suits integer files");
   const int in_nch = spec.nchannels, out_nch = to_rgb.output_channels();
   std::mutex mutex;
   RgbCounts total;
   stream(
-      reader, file, "openexr", ospec,
+      reader, file, rep.output_format, ospec,
       [&](const float* src, std::size_t n, float* dst) {
         OIIO::parallel_for_chunked(
             0, static_cast<int64_t>(n), 4096,
             [&](int64_t b, int64_t e) {
               const RgbCounts c =
                   to_rgb.convert(src + b * in_nch, in_nch, static_cast<std::size_t>(e - b),
-                                 dst + b * out_nch, settings.half);
+                                 dst + b * out_nch, type);
               std::lock_guard<std::mutex> lock(mutex);
               total.invalid += c.invalid;
               total.half_overflow += c.half_overflow;
+              total.clipped += c.clipped;
             },
             OIIO::paropt(settings.threads));
       },
@@ -216,6 +242,10 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   if (total.half_overflow > 0)
     warn("'" + output + "': " + std::to_string(total.half_overflow) +
          " pixels exceed HALF's range (65504) and were clamped; use --format float to keep them");
+  if (total.clipped > 0)
+    warn("'" + output + "': " + std::to_string(total.clipped) +
+         " pixels have values outside 0..1, clipped by the integer format");
+  rep.clipped_pixels = total.clipped;
   rep.seconds = seconds_since(t_start);
   return rep;
 }

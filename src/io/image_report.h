@@ -47,7 +47,7 @@ struct ToRgbReport {
   bool polarised = false;  // S1..S3 were present (S0 used)
   int mip_levels = 1, subimages = 1;
   Settings settings;
-  std::uint64_t pixels = 0, invalid_pixels = 0, half_overflow_pixels = 0;
+  std::uint64_t pixels = 0, invalid_pixels = 0, half_overflow_pixels = 0, clipped_pixels = 0;
   std::vector<std::string> warnings;
   double seconds = 0;
 };

@@ -75,7 +75,10 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
 
 RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const Settings& settings,
                                  const ColourSpaces& spaces)
-    : layout_(layout), from_xyz_(spaces.from_xyz(settings.colorspace)) {
+    : layout_(layout),
+      from_xyz_(settings.display.empty()
+                    ? spaces.from_xyz(settings.colorspace)
+                    : spaces.display_from_xyz(settings.display, settings.view)) {
   const Observer& observer = Observer::get(settings.spectral.observer);
   std::unique_ptr<Illuminant> illuminant;
   if (!layout.emissive)
@@ -86,7 +89,9 @@ RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const Setting
     wy_.push_back(static_cast<float>(c.Y));
     wz_.push_back(static_cast<float>(c.Z));
   }
-  if (!layout.emissive) {
+  // Balanced: relative to the reflected white (rho == 1 is the D65 white, RGB 1,1,1); as lit:
+  // the reflected light itself (rho == 1 has the illuminant's colour, at Y = 1).
+  if (!layout.emissive && !settings.as_lit) {
     const Xyz b = balance_to_d65(w.unit_white());
     balance_[0] = static_cast<float>(b.X);
     balance_[1] = static_cast<float>(b.Y);
@@ -95,7 +100,10 @@ RgbFromSpectral::RgbFromSpectral(const SpectralLayoutInfo& layout, const Setting
 }
 
 RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, float* out,
-                                   bool half) const {
+                                   OIIO::TypeDesc type) const {
+  const bool integer =
+      type.basetype == OIIO::TypeDesc::UINT8 || type.basetype == OIIO::TypeDesc::UINT16;
+  const bool half = type.basetype == OIIO::TypeDesc::HALF;
   RgbCounts counts;
   const int out_nch = output_channels();
   const std::size_t bands = layout_.band_channels.size();
@@ -120,30 +128,41 @@ RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, f
   const float limit = half ? 65504.0f : std::numeric_limits<float>::max();
   for (std::size_t p = 0; p < n; ++p) {
     float* o = out + p * out_nch;
-    bool over = false;
+    bool over = false, clip = false;
     for (int c = 0; c < 3; ++c) {
       float v = rgb[p * 3 + c];
-      if (!std::isfinite(v) || std::abs(v) > limit) {
-        over = over || std::isfinite(v) || std::isinf(v);
-        v = std::isnan(v) ? 0.0f : std::clamp(v, -limit, limit);
+      if (std::isnan(v)) v = 0;
+      if (integer && !(v >= 0 && v <= 1)) {
+        clip = true;
+        v = std::clamp(v, 0.0f, 1.0f);
+      } else if (std::abs(v) > limit) {
+        over = true;
+        v = std::clamp(v, -limit, limit);
       }
       o[c] = v;
     }
+    counts.clipped += clip;
     counts.half_overflow += over;
     if (out_nch == 4) {
       const float a = in[p * in_nch + layout_.alpha];
-      o[3] = std::isfinite(a) ? std::clamp(a, -limit, limit) : 0.0f;
+      o[3] =
+          std::isfinite(a) ? std::clamp(a, integer ? 0.0f : -limit, integer ? 1.0f : limit) : 0.0f;
     }
   }
   return counts;
+}
+
+OIIO::TypeDesc rgb_sample_type(const Settings& settings) {
+  if (settings.integer_bits == 8) return OIIO::TypeUInt8;
+  if (settings.integer_bits == 16) return OIIO::TypeUInt16;
+  return settings.half ? OIIO::TypeHalf : OIIO::TypeFloat;
 }
 
 OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLayoutInfo& layout,
                                 const Settings& settings, const ColourSpaces& spaces,
                                 const std::string& date_time) {
   const int nch = layout.alpha >= 0 ? 4 : 3;
-  OIIO::ImageSpec spec(source.width, source.height, nch,
-                       settings.half ? OIIO::TypeHalf : OIIO::TypeFloat);
+  OIIO::ImageSpec spec(source.width, source.height, nch, rgb_sample_type(settings));
   spec.x = source.x;
   spec.y = source.y;
   spec.full_x = source.full_x;
@@ -156,13 +175,26 @@ OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLay
   for (const auto& p : source.extra_attribs)
     if (carried_over_attribute(p.name().string())) spec.extra_attribs.push_back(p);
   spec.attribute("compression", settings.compression);
-  if (settings.tile > 0) spec.tile_width = spec.tile_height = settings.tile;
+  if (settings.tile_width > 0) {
+    spec.tile_width = settings.tile_width;
+    spec.tile_height = settings.tile_height;
+  }
   spec.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
   spec.attribute("DateTime", date_time);
   spec.attribute("spectralize:version", SPECTRALIZE_VERSION);
   spec.attribute("spectralize:observer", settings.spectral.observer);
-  if (!layout.emissive) spec.attribute("spectralize:illuminant", settings.spectral.illuminant);
-  tag_colour_space(spec, spaces, settings.colorspace);
+  if (!layout.emissive) {
+    spec.attribute("spectralize:illuminant", settings.spectral.illuminant);
+    spec.attribute("spectralize:reflected", settings.as_lit ? "as-lit" : "balanced");
+  }
+  if (settings.display.empty()) {
+    tag_colour_space(spec, spaces, settings.colorspace);
+  } else {
+    const std::string space = spaces.display_colour_space(settings.display, settings.view);
+    if (!space.empty()) tag_colour_space(spec, spaces, space);
+    spec.attribute("spectralize:display", settings.display);
+    if (!settings.view.empty()) spec.attribute("spectralize:view", settings.view);
+  }
   return spec;
 }
 

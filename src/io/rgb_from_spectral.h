@@ -38,6 +38,7 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
 struct RgbCounts {
   std::uint64_t invalid = 0;        // pixels with NaN or infinite samples (taken as 0)
   std::uint64_t half_overflow = 0;  // pixels with an RGB value beyond HALF's range (clamped)
+  std::uint64_t clipped = 0;        // integer output: pixels with a value outside 0..1 (clipped)
 };
 
 class RgbFromSpectral {
@@ -53,9 +54,11 @@ class RgbFromSpectral {
   /// n pixels of in_nch float channels to n pixels of RGB(A). Emission: XYZ = W . S0.
   /// Reflectance: XYZ of rho under the illuminant relative to its white (rho == 1 gives the
   /// D65 white, so RGB (1, 1, 1): the paper's eq. 6, the inverse of spectralize's white
-  /// balance). Non-finite samples count as 0; `half` clamps to HALF's range. Returns what it
-  /// counted. Thread-safe. Cost: O(n x bands).
-  RgbCounts convert(const float* in, int in_nch, std::size_t n, float* out, bool half) const;
+  /// balance; with as-lit the reflected light itself). Non-finite samples count as 0; values
+  /// are clamped to what `type` stores (HALF's range; 0..1 for integers), and counted. Returns
+  /// what it counted. Thread-safe. Cost: O(n x bands).
+  RgbCounts convert(const float* in, int in_nch, std::size_t n, float* out,
+                    OIIO::TypeDesc type) const;
 
  private:
   SpectralLayoutInfo layout_;
@@ -64,8 +67,13 @@ class RgbFromSpectral {
   ColourTransform from_xyz_;
 };
 
+/// The sample type --to-rgb writes: uint8/uint16 (settings.integer_bits) or HALF/FLOAT.
+/// Cost: O(1).
+OIIO::TypeDesc rgb_sample_type(const Settings& settings);
+
 /// The spec of RGB(A) written from a spectral `source` (its windows), tagged with its colour
-/// space, with the settings that made it; used by --to-rgb and the plugin. Cost: O(attributes).
+/// space (or display), with the settings that made it; used by --to-rgb and the plugin.
+/// Cost: O(attributes).
 OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLayoutInfo& layout,
                                 const Settings& settings, const ColourSpaces& spaces,
                                 const std::string& date_time);

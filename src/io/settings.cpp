@@ -169,13 +169,20 @@ std::vector<SettingSpec> make_schema() {
        [](const Settings& v) { return v.spectral.mode == Mode::emission; }});
   s.push_back({"format", "--format", "FORMAT", "",
                "Samples of the written file: half (max 65504; larger samples are clamped and "
-               "counted) or float",
+               "counted) or float; --to-rgb into PNG, JPEG, TIFF, ...: uint8 or uint16",
                kFileCommands, true, false,
                [](Settings& v, std::string_view t) {
-                 v.half = choice(t, {"half", "float"}) == "half";
+                 const std::string_view c = choice(t, {"half", "float", "uint8", "uint16"});
+                 v.half = c == "half";
+                 v.integer_bits = c == "uint8" ? 8 : c == "uint16" ? 16 : 0;
                },
-               [](const Settings& v) { return std::string(v.half ? "half" : "float"); }, nullptr,
-               "", "-d"});
+               [](const Settings& v) {
+                 return std::string(v.integer_bits == 8    ? "uint8"
+                                    : v.integer_bits == 16 ? "uint16"
+                                    : v.half               ? "half"
+                                                           : "float");
+               },
+               nullptr, "", "-d"});
   s.push_back({"print_format", "--format", "FORMAT", "",
                "How --color prints spectra: csv (wavelength_nm,value rows) or json (every field "
                "of the result)",
@@ -191,14 +198,60 @@ std::vector<SettingSpec> make_schema() {
                [](Settings& v, std::string_view t) { v.compression = parse_compression(t); },
                [](const Settings& v) { return v.compression; }, nullptr});
   s.push_back({"tile", "--tile", "N", "",
-               "Write N x N tiles (16..4096) instead of scanlines (0: scanlines)", kFileCommands,
-               true, false,
+               "Write N x N tiles (also --tile W H, or WxH), 16..4096, instead of scanlines (0)",
+               kFileCommands, true, false,
                [](Settings& v, std::string_view t) {
-                 v.tile = whole(t, 0, 4096);
-                 if (v.tile != 0 && v.tile < 16)
-                   throw Error(quoted(t) + " must be 0 (scanlines) or between 16 and 4096");
+                 const std::size_t x = t.find_first_of("x,");
+                 const int w = whole(t.substr(0, x), 0, 4096);
+                 const int h = x == std::string_view::npos ? w : whole(t.substr(x + 1), 0, 4096);
+                 if ((w == 0) != (h == 0) || (w != 0 && (w < 16 || h < 16)))
+                   throw Error(quoted(t) + " must be 0 (scanlines) or sizes between 16 and 4096");
+                 v.tile_width = w;
+                 v.tile_height = h;
                },
-               [](const Settings& v) { return std::to_string(v.tile); }, nullptr});
+               [](const Settings& v) {
+                 return v.tile_width == v.tile_height
+                            ? std::to_string(v.tile_width)
+                            : std::to_string(v.tile_width) + "x" + std::to_string(v.tile_height);
+               },
+               nullptr});
+  s.push_back({"preview_colorspace", "--preview-colorspace", "NAME", "",
+               "Colour space of the spectral file's R, G, B previews (tagged in the file)",
+               kImage | kIngest, true, false,
+               [](Settings& v, std::string_view t) { v.preview_colorspace = std::string(t); },
+               [](const Settings& v) { return v.preview_colorspace; },
+               [](const Settings& v) { return !v.preview_colorspace.empty(); },
+               "the config's scene_linear role"});
+  s.push_back({"reflected", "--reflected", "HOW", "",
+               "Reflective files: balanced (relative to the reflected white: rho == 1 is RGB 1,1,1 "
+               "under any light) or as-lit (the reflected light's colour: a white surface under A "
+               "is warm)",
+               kToRgb | kPlotPixel, true, false,
+               [](Settings& v, std::string_view t) {
+                 v.as_lit = choice(t, {"balanced", "as-lit"}) == "as-lit";
+               },
+               [](const Settings& v) { return std::string(v.as_lit ? "as-lit" : "balanced"); },
+               nullptr});
+  s.push_back({"display", "--display", "NAME", "",
+               "An OCIO display for the output (with --view) instead of --colorspace", kToRgb, true,
+               false, [](Settings& v, std::string_view t) { v.display = std::string(t); },
+               [](const Settings& v) { return v.display; },
+               [](const Settings& v) { return !v.display.empty(); }, "none"});
+  s.push_back({"view", "--view", "NAME", "", "The OCIO view of --display", kToRgb, true, false,
+               [](Settings& v, std::string_view t) { v.view = std::string(t); },
+               [](const Settings& v) { return v.view; },
+               [](const Settings& v) { return !v.view.empty(); }, "the display's default"});
+  s.push_back({"plot_scale", "--plot-scale", "SCALE", "",
+               "Value axis of plots: linear, log (a sun and a sky on one plot) or normalized "
+               "(each curve divided by its maximum)",
+               kPlotColor | kPlotPixel, false, false,
+               [](Settings& v, std::string_view t) {
+                 const std::string_view c = choice(t, {"linear", "log", "normalized"});
+                 v.plot_scale = c == "log"      ? PlotScale::log
+                                : c == "linear" ? PlotScale::linear
+                                                : PlotScale::normalized;
+               },
+               [](const Settings& v) { return std::string(to_string(v.plot_scale)); }, nullptr});
   s.push_back({"method", "--method", "METHOD", "method",
                "table (exact interpolation of cached node spectra) or exact (every distinct "
                "colour solved directly; slow, for comparison)",
@@ -233,6 +286,10 @@ std::vector<SettingSpec> make_schema() {
 }
 
 }  // namespace
+
+std::string_view to_string(PlotScale scale) {
+  return scale == PlotScale::log ? "log" : scale == PlotScale::normalized ? "normalized" : "linear";
+}
 
 std::string_view to_string(ModeChoice mode) {
   switch (mode) {

@@ -31,6 +31,9 @@ enum Command : unsigned {
 enum class ModeChoice { automatic, emission, reflectance };
 
 /// Every option of every command, with its default.
+/// How --plot draws values.
+enum class PlotScale { linear, log, normalized };
+
 struct Settings {
   // What the input is (for --to-rgb: what the output is).
   std::string colorspace;  // "" : from the file / the config (see input_interpretation.h)
@@ -38,9 +41,14 @@ struct Settings {
   SpectralizerSettings spectral;  // grid, observer, illuminant, filter, model, basis, tau
   // How it is written.
   bool half = true;                 // HALF (else FLOAT) samples
+  int integer_bits = 0;             // --to-rgb into PNG, TIFF...: 8 or 16-bit samples (0: float)
   bool json = false;                // --color prints JSON (else CSV)
   std::string compression = "zip";  // OpenEXR compression, OIIO's "name[:level]"
-  int tile = 0;                     // 0: scanlines; else tile x tile
+  int tile_width = 0, tile_height = 0;  // 0: scanlines; else tiles of this size
+  std::string preview_colorspace;       // "" : the config's scene_linear role
+  bool as_lit = false;                  // --to-rgb: reflected light as lit (else white balanced)
+  std::string display, view;            // --to-rgb: an OCIO display and view instead of a space
+  PlotScale plot_scale = PlotScale::linear;
   SpectralTable::Method method = SpectralTable::Method::table;
   std::string cache_dir;  // "" : no persistent node cache
   int threads = 0;        // 0: all cores
@@ -111,6 +119,9 @@ std::string table_cache_key(const Settings& settings, const std::string& table_l
 
 /// "emission" / "reflectance" / "auto". Cost: O(1).
 std::string_view to_string(ModeChoice mode);
+
+/// "linear" / "log" / "normalized". Cost: O(1).
+std::string_view to_string(PlotScale scale);
 
 /// The canonical names of OpenEXR compressions OIIO writes. Cost: O(1).
 const std::vector<std::string_view>& exr_compressions();

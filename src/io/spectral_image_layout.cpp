@@ -48,7 +48,10 @@ SpectralExrLayout::SpectralExrLayout(const LayoutRequest& r) : preview_(r.previe
   for (const auto& p : in.extra_attribs)
     if (carried_over_attribute(p.name().string())) spec_.extra_attribs.push_back(p);
   spec_.attribute("compression", s.compression);
-  if (s.tile > 0) spec_.tile_width = spec_.tile_height = s.tile;
+  if (s.tile_width > 0) {
+    spec_.tile_width = s.tile_width;
+    spec_.tile_height = s.tile_height;
+  }
   spec_.attribute(kLayoutVersionAttr, kLayoutVersion);
   if (sp.mode == Mode::emission) spec_.attribute(kEmissiveUnitsAttr, kEmissiveUnits);
   spec_.attribute("Software", "spectralize " SPECTRALIZE_VERSION);

@@ -117,6 +117,19 @@ Axis value_axis(const SpectrumPlot& plot) {
   return {std::floor(lo / step + 1e-9) * step, std::ceil(hi / step - 1e-9) * step, step};
 }
 
+// Log scale: whole decades from the smallest positive value (at most 8 decades below the
+// largest) to the largest; ticks and labels are powers of ten.
+Axis log_value_axis(const SpectrumPlot& plot) {
+  double lo = INFINITY, hi = 0;
+  for (const auto& c : plot.curves)
+    for (double v : c.values)
+      if (std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (!(hi > 0)) return {0, 1, 1};
+  const double top = std::ceil(std::log10(hi) - 1e-9);
+  const double bottom = std::max(std::floor(std::log10(lo) + 1e-9), top - 8);
+  return {bottom, top > bottom ? top : bottom + 1, 1};
+}
+
 // Cuts text to about `width` units (DejaVu Sans averages ~0.58 em per character).
 std::string fit(const std::string& s, double width, double size) {
   const std::size_t max_chars = static_cast<std::size_t>(width / (0.58 * size));
@@ -139,9 +152,14 @@ void draw(const SpectrumPlot& plot, Painter& p) {
   }
   p.end_group();
 
-  const Axis ax = wavelength_axis(plot), ay = value_axis(plot);
+  const Axis ax = wavelength_axis(plot);
+  const Axis ay = plot.log_scale ? log_value_axis(plot) : value_axis(plot);
   auto to_x = [&](double nm) { return kLeft + (nm - ax.lo) / (ax.hi - ax.lo) * (kRight - kLeft); };
-  auto to_y = [&](double v) { return kBottom - (v - ay.lo) / (ay.hi - ay.lo) * (kBottom - kTop); };
+  auto to_y = [&](double v) {
+    // In decades, values at or below the bottom decade sit on the axis.
+    if (plot.log_scale) v = v > 0 ? std::max(std::log10(v), ay.lo) : ay.lo;
+    return kBottom - (v - ay.lo) / (ay.hi - ay.lo) * (kBottom - kTop);
+  };
 
   // Grid, ticks and their labels.
   p.begin_group("axes");
@@ -152,10 +170,12 @@ void draw(const SpectrumPlot& plot, Painter& p) {
     p.text({x, kBottom + 20}, ax.label(t), 12, kInk, Align::center);
   }
   for (double t : ay.ticks()) {
-    const double y = to_y(t);
-    p.line({kLeft, y}, {kRight, y}, t == 0 ? kGrey : kGridGrey, 1);
+    const double y = to_y(plot.log_scale ? std::pow(10.0, t) : t);
+    p.line({kLeft, y}, {kRight, y}, t == 0 && !plot.log_scale ? kGrey : kGridGrey, 1);
     p.line({kLeft - 5, y}, {kLeft, y}, kFrame, 1);
-    p.text({kLeft - 8, y + 4.5}, ay.label(t), 12, kInk, Align::right);
+    p.text({kLeft - 8, y + 4.5},
+           plot.log_scale ? fmt::format("{:g}", std::pow(10.0, t)) : ay.label(t), 12, kInk,
+           Align::right);
   }
   p.line({kLeft, kTop}, {kRight, kTop}, kFrame, 1);
   p.line({kLeft, kBottom}, {kRight, kBottom}, kFrame, 1);

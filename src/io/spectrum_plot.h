@@ -29,8 +29,9 @@ struct SpectrumPlot {
   std::vector<std::string> title;  // up to 3 lines; the first is drawn larger
   std::string x_label = "wavelength (nm)";
   std::string y_label = "value";
-  double y_top_at_least = 0;               // the value axis reaches at least this (1: reflectance)
-  std::vector<PlotCurve> curves;           // at most kMaxPlotCurves
+  double y_top_at_least = 0;      // the value axis reaches at least this (1: reflectance)
+  bool log_scale = false;         // value axis in decades (values <= 0 drawn at the bottom)
+  std::vector<PlotCurve> curves;  // at most kMaxPlotCurves
   std::vector<std::string> swatch_labels;  // column headings of the swatches, e.g. "input"
   std::vector<std::string> notes;          // small lines under the legend
 };

@@ -105,8 +105,11 @@ ProgressFn console_progress(int verbosity, const std::string& what) {
   struct State {
     Clock::time_point start = Clock::now(), last = Clock::now();
     bool tty = ::isatty(STDERR_FILENO) != 0;
+    bool verbose = false;
+    int tenth = 0;
   };
   auto state = std::make_shared<State>();
+  state->verbose = verbosity >= 2;
   return [state, what](std::uint64_t done, std::uint64_t total) {
     if (total == 0) return;
     const auto now = Clock::now();
@@ -122,9 +125,13 @@ ProgressFn console_progress(int verbosity, const std::string& what) {
       std::fflush(stderr);
       return;
     }
-    // Off a terminal (farm logs): a line every 10 seconds, none for short jobs.
-    if (std::chrono::duration<double>(now - state->last).count() >= 10 && done < total) {
+    // Off a terminal (farm logs): a line every 10 seconds, and with -v also every 10%.
+    const int tenth = static_cast<int>(f * 10);
+    const bool due = std::chrono::duration<double>(now - state->last).count() >= 10 ||
+                     (state->verbose && tenth > state->tenth);
+    if (due && done < total) {
       state->last = now;
+      state->tenth = tenth;
       fmt::print(stderr, "spectralize: {}: {:.0f}% ({:.2f} Mpixel/s, ETA {:.0f} s)\n", what,
                  100 * f, rate, eta);
     }

@@ -1,6 +1,7 @@
 // spectralize INPUT -o OUTPUT.exr and --to-rgb: the streamed jobs with their console output
 // and JSON report.
 
+#include <OpenImageIO/imageio.h>
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -18,6 +19,20 @@
 namespace spectralize::tool {
 
 namespace {
+
+// A name whose extension OpenImageIO writes.
+bool is_image_path(const std::string& path) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) (void)OIIO::geterror();
+  return out != nullptr;
+}
+
+// Formats that store only floats (Radiance HDR, PFM): no integer default.
+bool is_float_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".hdr" || ext == ".pfm";
+}
 
 bool ends_with_exr(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
@@ -61,12 +76,26 @@ Settings checked_settings(const Options& opt) {
 }  // namespace
 
 int run_to_rgb(const Options& opt) {
-  if (opt.output.empty()) throw UsageError{"-o OUTPUT.exr is required"};
-  if (!ends_with_exr(opt.output))
+  if (opt.output.empty()) throw UsageError{"-o OUTPUT is required"};
+  if (!is_image_path(opt.output))
     throw UsageError{
-        fmt::format("-o '{}': the output is an OpenEXR file (.exr)", clip(opt.output))};
+        fmt::format("-o '{}': an image file OpenImageIO writes (.exr, .tif, .png, .jpg, .hdr, ...)",
+                    clip(opt.output))};
   Settings s = checked_settings(opt);
-  if (s.colorspace.empty()) s.colorspace = default_colour_space(load_config(opt), true).first;
+  const ColourSpaces spaces = load_config(opt);
+  if (!s.display.empty() && !s.colorspace.empty())
+    throw UsageError{"give --colorspace or --display, not both"};
+  if (!s.view.empty() && s.display.empty()) throw UsageError{"--view needs --display"};
+  if (!s.display.empty())
+    flag_value("--display", [&] { return spaces.display_from_xyz(s.display, s.view); });
+  // Files that store integers are display-referred: an encoded space and 8 bits by default.
+  const bool integer_file = !ends_with_exr(opt.output) && !is_float_path(opt.output);
+  if (integer_file && !opt.given.count("--format") && !opt.given.count("-d")) s.integer_bits = 8;
+  if (integer_file && s.integer_bits == 0)
+    throw UsageError{
+        fmt::format("-o '{}': --format uint8 or uint16 for this file type", clip(opt.output))};
+  if (s.colorspace.empty() && s.display.empty())
+    s.colorspace = default_colour_space(spaces, !integer_file).first;
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);
   const ToRgbReport r =
@@ -93,6 +122,9 @@ int run_image(const Options& opt) {
         fmt::format("-o '{}': the output is a spectral OpenEXR file (.exr)", clip(opt.output))};
   const std::string& input = opt.inputs[0];
   const Settings s = checked_settings(opt);
+  if (s.integer_bits != 0)
+    throw UsageError{"--format uint" + std::to_string(s.integer_bits) +
+                     ": a spectral OpenEXR stores half or float samples"};
   auto report = open_report(opt, input);
   const LogFn log = console_log(opt.verbosity);
   const ImageReport r =

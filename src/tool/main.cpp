@@ -124,7 +124,22 @@ void print_help() {
       "  spectralize --color R,G,B [...] -o PLOT.png|PLOT.svg  a plot of their spectra\n"
       "  spectralize --plot-pixel X,Y IN.exr -o PLOT.png       a plot of a pixel of a "
       "spectral EXR\n\n"
-      "Commands and outputs:\n");
+      "Flags by command:\n");
+  const std::pair<unsigned, const char*> groups[] = {{kImage, "image"},
+                                                     {kToRgb, "--to-rgb"},
+                                                     {kColor, "--color"},
+                                                     {kPlotColor, "plots"},
+                                                     {kPlotPixel, "--plot-pixel"}};
+  for (const auto& [command, name] : groups) {
+    std::string flags;
+    for (const CommandFlag& f : kCommandFlags)
+      if (f.commands & command) flags += std::string(flags.empty() ? "" : " ") + f.flag;
+    for (const SettingSpec& spec : settings_schema())
+      if (spec.applies(static_cast<Command>(command)) && flags.find(spec.flag) == std::string::npos)
+        flags += " " + std::string(spec.flag);
+    print_entry(name, flags + " -v -q", width);
+  }
+  fmt::print("\nCommands and outputs:\n");
   for (const CommandFlag& f : kCommandFlags)
     print_entry(std::string(f.flag) + " " + f.metavar, f.help, width);
   fmt::print("\nSettings [default] (commands they apply to):\n");
@@ -160,12 +175,23 @@ using Given = std::vector<std::pair<std::string, std::string>>;
 Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& version) {
   std::vector<const char*> args;
   std::vector<std::string> after_dashes;
+  std::vector<std::string> merged;  // "--tile W H" as oiiotool spells it becomes "--tile W,H"
+  merged.reserve(static_cast<std::size_t>(argc));
+  auto whole = [](const char* t) {
+    return *t && std::string(t).find_first_not_of("0123456789") == std::string::npos;
+  };
   for (int i = 0; i < argc; ++i) {
     if (i > 0 && std::string(argv[i]) == "--") {
       for (int k = i + 1; k < argc; ++k) after_dashes.emplace_back(argv[k]);
       break;
     }
     args.push_back(argv[i]);
+    if (std::string(argv[i]) == "--tile" && i + 2 < argc && whole(argv[i + 1]) &&
+        whole(argv[i + 2])) {
+      merged.push_back(std::string(argv[i + 1]) + "," + argv[i + 2]);
+      args.push_back(merged.back().c_str());
+      i += 2;
+    }
   }
   Given given;
   OIIO::ArgParse ap;

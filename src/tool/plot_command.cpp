@@ -113,6 +113,44 @@ std::pair<int, int> parse_pixel(const std::string& text) {
   return {x, y};
 }
 
+// --plot-scale: decades, or each curve divided by its own maximum (so a sun pixel and a sky
+// pixel can share a plot).
+void apply_scale(const Options& opt, SpectrumPlot& plot) {
+  switch (opt.settings.plot_scale) {
+    case PlotScale::linear:
+      return;
+    case PlotScale::log:
+      plot.log_scale = true;
+      plot.y_label += " (log)";
+      return;
+    case PlotScale::normalized:
+      for (PlotCurve& c : plot.curves) {
+        double peak = 0;
+        for (double v : c.values)
+          if (std::isfinite(v)) peak = std::max(peak, v);
+        if (peak > 0)
+          for (double& v : c.values) v /= peak;
+      }
+      plot.y_label += " / its maximum";
+      plot.y_top_at_least = 1;
+      return;
+  }
+}
+
+// The curves of a plot as CSV: wavelength_nm, then one column per curve (named by its label).
+std::string plot_csv(const SpectrumPlot& plot) {
+  std::string text = "wavelength_nm";
+  for (const PlotCurve& c : plot.curves) text += ",\"" + c.label + "\"";
+  text += "\n";
+  const std::size_t n = plot.curves.empty() ? 0 : plot.curves[0].wavelengths.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    text += fmt::format("{}", plot.curves[0].wavelengths[k]);
+    for (const PlotCurve& c : plot.curves) text += fmt::format(",{}", c.values[k]);
+    text += "\n";
+  }
+  return text;
+}
+
 void report(const Options& opt, const SpectrumPlot& plot) {
   if (opt.verbosity > 0)
     fmt::print(stderr, "spectralize: '{}': plot of {} spectr{}, {} samples, {}x{}\n", opt.output,
@@ -176,6 +214,7 @@ int run_plot_color(const Options& opt) {
   if (colours.size() == 1) plot.title.push_back(results[0]);
   plot.notes.push_back("swatches: display sRGB via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
+  apply_scale(opt, plot);
   write_plot(plot, opt.output);
   report(opt, plot);
   return status;
@@ -191,7 +230,10 @@ int run_plot_pixel(const Options& opt) {
             ? "--plot-pixel needs the spectral EXR: spectralize --plot-pixel X,Y "
               "IN.exr -o PLOT.png"
             : fmt::format("--plot-pixel: one input file at a time, got {}", opt.inputs.size())};
-  check_plot_output(opt, "--plot-pixel");
+  // -o PIXELS.csv writes the samples themselves instead of a plot.
+  const std::string ext = fs::path(opt.output).extension().string();
+  const bool csv = ext == ".csv" || ext == ".CSV";
+  if (!csv) check_plot_output(opt, "--plot-pixel");
   if (opt.plot_pixels.size() > kMaxPlotCurves)
     throw UsageError{fmt::format("--plot-pixel: a plot shows at most {} pixels, got {}",
                                  kMaxPlotCurves, opt.plot_pixels.size())};
@@ -254,7 +296,7 @@ int run_plot_pixel(const Options& opt) {
     // The swatches: the file's own RGB (linear Rec.709 by EXR convention) and the spectrum
     // integrated as --to-rgb does.
     float rgb[4] = {0, 0, 0, 0};
-    to_rgb.convert(px, spec.nchannels, 1, rgb, false);
+    to_rgb.convert(px, spec.nchannels, 1, rgb, OIIO::TypeFloat);
     const Xyz from_spectrum = rgb_to_xyz(rgb[0], rgb[1], rgb[2]);
     const Xyz from_file = has_rgb ? rgb_to_xyz(px[r_ch], px[g_ch], px[b_ch]) : from_spectrum;
     // One exposure for both (the brighter fits), so a preview on another scale than its
@@ -278,6 +320,13 @@ int run_plot_pixel(const Options& opt) {
                                    layout.emissive ? "" : " under " + illuminant));
   plot.notes.push_back("swatches: display sRGB via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
+  apply_scale(opt, plot);
+  if (csv) {
+    AtomicOutput out(opt.output, std::span<const std::string>(&file, 1), /*allow_stream=*/true);
+    out.write(plot_csv(plot));
+    out.commit();
+    return kExitOk;
+  }
   write_plot(plot, opt.output, std::span<const std::string>(&file, 1));
   report(opt, plot);
   return kExitOk;

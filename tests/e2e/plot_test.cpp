@@ -405,7 +405,7 @@ TEST(PlotErrors, BadInputsGiveTheStatedExitCodeAndMessage) {
       {"--plot-pixel -1,2 " + exr + " -o " + dir / "a.png", 2, {"X,Y"}},
       {"--plot-pixel 1,2,3 " + exr + " -o " + dir / "a.png", 2, {"X,Y"}},
       {"--plot-pixel 1,2 " + exr, 2, {"-o"}},
-      {"--plot-pixel 1,2 " + exr + " -o " + dir / "a.csv", 2, {"a.csv"}},
+      {"--plot-pixel 1,2 " + exr + " -o " + dir / "a.txt", 2, {"a.txt"}},
       {"--plot-pixel 1,2 -o " + dir / "a.png", 2, {"IN.exr"}},
       {"--plot-pixel 1,2 " + kImages + "hdri_sunset_256x128.exr -o " + dir / "a.png",
        1,

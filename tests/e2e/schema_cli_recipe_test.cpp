@@ -31,6 +31,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kValues = {
     {"compression", {"zip:6", "bogus"}},
     {"tile", {"32", "7"}},
     {"method", {"exact", "fast"}},
+    {"preview_colorspace", {"ACEScg", "NoSuchSpace"}},
     {"cache", {"cache", ""}},
     {"threads", {"1", "-2"}},
     {"config", {SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", "/no/such.ocio"}},

@@ -43,7 +43,8 @@ TEST(Recipe, ParsesEveryKeyByTheSchemaAndResolvesTheSource) {
   EXPECT_FALSE(r.to_rgb);
   EXPECT_EQ(r.settings.mode, ModeChoice::reflectance);
   EXPECT_EQ(r.settings.spectral.grid.size(), 31u);
-  EXPECT_EQ(r.settings.tile, 64);
+  EXPECT_EQ(r.settings.tile_width, 64);
+  EXPECT_EQ(r.settings.tile_height, 64);
   EXPECT_EQ(r.settings.spectral.filter.to_string(), "0.5");
   EXPECT_FALSE(r.settings.half);
   EXPECT_EQ(r.settings.spectral.model, "smooth");

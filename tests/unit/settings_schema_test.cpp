@@ -37,6 +37,11 @@ const std::map<std::string, std::pair<std::string, std::string>> kExamples = {
     {"compression", {"piz", "zip:12"}},
     {"tile", {"64", "7"}},
     {"method", {"exact", "fast"}},
+    {"preview_colorspace", {"ACEScg", ""}},  // validated by the config, at use
+    {"reflected", {"as-lit", "warm"}},
+    {"display", {"sRGB", ""}},
+    {"view", {"Standard", ""}},
+    {"plot_scale", {"log", "cubic"}},
     {"cache", {"/tmp/cache", ""}},
     {"threads", {"3", "-2"}},
     {"config", {"/some/config.ocio", ""}},
