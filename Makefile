@@ -18,8 +18,9 @@ configure:
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
-# Every test but those labelled "long" (suites named *Slow: big maps, the schema sweep through
-# two processes per value); `make test-long` runs those, and CI runs both.
+# Every test but those labelled "long" (suites named *Slow: a 4K map in bounded memory, the
+# schema sweep through two processes per value, signals during long writes); `make test-long`
+# runs those, and CI runs both.
 test: deps build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE long
 

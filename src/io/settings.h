@@ -72,8 +72,8 @@ struct SettingSpec {
   /// Whether the value matters for these settings (e.g. the filter only for the paper model,
   /// the illuminant only for reflectances); nullptr: always.
   std::function<bool(const Settings&)> relevant;
-  std::string_view default_text;  // --help's default when format(Settings{}) does not say it
-  std::string_view alias;         // a second flag, in the OIIO tools' spelling (e.g. "-d")
+  std::string_view default_text{};  // --help's default when format(Settings{}) does not say it
+  std::string_view alias{};         // a second flag, in the OIIO tools' spelling (e.g. "-d")
 
   /// True when it applies to `command`. Cost: O(1).
   bool applies(Command command) const { return (commands & command) != 0; }

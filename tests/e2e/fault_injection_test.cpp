@@ -82,9 +82,9 @@ pid_t spawn(const std::vector<std::string>& args) {
 
 // Signals sent while the output is being written: the temporary file is removed and the
 // process dies of the signal (shells report 128 + signal); nothing at the destination.
-class FaultSignals : public ::testing::TestWithParam<int> {};
+class FaultSignalsSlow : public ::testing::TestWithParam<int> {};
 
-TEST_P(FaultSignals, RemoveTheTemporaryFileAndDieOfTheSignal) {
+TEST_P(FaultSignalsSlow, RemoveTheTemporaryFileAndDieOfTheSignal) {
   Scratch s;
   const std::string in = big_input(s);
   const pid_t pid = spawn({in, "-o", s / "out.exr", "-q", "--threads", "1"});
@@ -105,7 +105,7 @@ TEST_P(FaultSignals, RemoveTheTemporaryFileAndDieOfTheSignal) {
   EXPECT_FALSE(fs::exists(s / "out.exr"));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, FaultSignals, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
+INSTANTIATE_TEST_SUITE_P(Cases, FaultSignalsSlow, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
                          [](const ::testing::TestParamInfo<int>& info) {
                            return info.param == SIGINT    ? std::string("SIGINT")
                                   : info.param == SIGTERM ? std::string("SIGTERM")
@@ -114,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, FaultSignals, ::testing::Values(SIGINT, SIGTERM,
 
 // SIGKILL cannot be caught: it may leave a temporary file, recognisable by its name, and
 // never a partial file at the destination; a rerun completes.
-TEST(FaultInjection, SigkillLeavesOnlyARecognisableTemporary) {
+TEST(FaultInjectionSlow, SigkillLeavesOnlyARecognisableTemporary) {
   Scratch s;
   const std::string in = big_input(s);
   const pid_t pid = spawn({in, "-o", s / "out.exr", "-q", "--threads", "1"});
