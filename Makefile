@@ -68,7 +68,7 @@ docs-figures: figures
 	@mkdir -p docs/figures
 	@cp $(BUILD_DIR)/figures/fig1_light_spectrum.png $(BUILD_DIR)/figures/fig3_surface_spectrum.png docs/figures/
 	@for f in $(BUILD_DIR)/figures/fig[2456]_*.png; do \
-	  oiiotool $$f --resize 256x0 -o docs/figures/$$(basename $$f); done
+	  oiiotool --nosoftwareattrib $$f --resize 256x0 -o docs/figures/$$(basename $$f); done
 
 bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
