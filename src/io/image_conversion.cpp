@@ -59,29 +59,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   Parts& p = *parts_;
   p.spectralizer = std::make_unique<Spectralizer>(s.spectral);
   p.table = std::make_unique<SpectralTable>(*p.spectralizer, s.method);
-  // The persistent node cache, keyed by everything the nodes depend on. An unusable cache is
-  // reported and bypassed or rebuilt, never fatal and never trusted.
-  if (!s.cache_dir.empty() && s.method == SpectralTable::Method::table) {
-    std::error_code ec;
-    fs::create_directories(s.cache_dir, ec);
-    if (!fs::is_directory(s.cache_dir, ec)) {
-      warn("--cache '" + s.cache_dir +
-           "': not a folder that can be created; running without a "
-           "persistent cache");
-    } else {
-      p.cache_key = table_cache_key(s, p.table->layout());
-      rep.cache_file = table_cache_file(s.cache_dir, p.cache_key);
-      const std::string why = load_table_cache(*p.table, rep.cache_file, p.cache_key);
-      if (!why.empty()) {
-        rep.cache_status = "rebuilt: " + why;
-        warn("cache '" + rep.cache_file + "' ignored and rebuilt: " + why);
-      } else {
-        rep.cache_status = p.table->stats().nodes_loaded > 0 ? "loaded" : "new";
-      }
-      log(2, "cache '" + rep.cache_file + "': " + rep.cache_status + ", " +
-                 std::to_string(p.table->stats().nodes_loaded) + " nodes");
-    }
-  }
+  load_cache(log, warn);
 
   // The output: previews in the config's scene-linear space (the shipped config: Linear
   // Rec.709), then alpha and the bands.
@@ -96,6 +74,34 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
       s.threads});
+}
+
+// The persistent node cache, keyed by everything the nodes depend on. An unusable cache is
+// reported and bypassed or rebuilt, never fatal and never trusted.
+void ImageConversion::load_cache(const LogFn& log,
+                                 const std::function<void(const std::string&)>& warn) {
+  ImageReport& rep = report_;
+  const Settings& s = rep.settings;
+  Parts& p = *parts_;
+  if (s.cache_dir.empty() || s.method != SpectralTable::Method::table) return;
+  std::error_code ec;
+  fs::create_directories(s.cache_dir, ec);
+  if (!fs::is_directory(s.cache_dir, ec)) {
+    warn("--cache '" + s.cache_dir +
+         "': not a folder that can be created; running without a persistent cache");
+    return;
+  }
+  p.cache_key = table_cache_key(s, p.table->layout());
+  rep.cache_file = table_cache_file(s.cache_dir, p.cache_key);
+  const std::string why = load_table_cache(*p.table, rep.cache_file, p.cache_key);
+  if (!why.empty()) {
+    rep.cache_status = "rebuilt: " + why;
+    warn("cache '" + rep.cache_file + "' ignored and rebuilt: " + why);
+  } else {
+    rep.cache_status = p.table->stats().nodes_loaded > 0 ? "loaded" : "new";
+  }
+  log(2, "cache '" + rep.cache_file + "': " + rep.cache_status + ", " +
+             std::to_string(p.table->stats().nodes_loaded) + " nodes");
 }
 
 ImageConversion::~ImageConversion() = default;

@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -38,6 +39,8 @@ class ImageConversion {
   const ImageReport& finish(const LogFn& log);
 
  private:
+  void load_cache(const LogFn& log, const std::function<void(const std::string&)>& warn);
+
   struct Parts;
   std::unique_ptr<Parts> parts_;
   ImageReport report_;
