@@ -247,6 +247,7 @@ void SpectralTable::for_each_node(
 
 bool SpectralTable::adopt_node(std::size_t index, std::span<const float> values) {
   if (index >= node_count_) return false;
+  if (nodes_[index].load(std::memory_order_acquire)) return true;  // already known here
   if (values.empty()) {  // outside the gamut: its cells fall back to exact direct solves
     nodes_[index].store(&kInfeasibleMark, std::memory_order_release);
     stats_.nodes_loaded++;

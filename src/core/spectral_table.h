@@ -87,8 +87,9 @@ class SpectralTable {
   void for_each_node(const std::function<void(std::size_t, std::span<const float>)>& fn) const;
   /// Installs a node read from storage (values empty: outside the gamut) after checking that a
   /// feasible node reproduces its own colour (relative XYZ 1e-5: float storage) within the
-  /// mode's bounds. Returns false, installing nothing, for an index out of range or a node that
-  /// fails the check. Not to be run concurrently with spectra(). Cost: O(N).
+  /// mode's bounds; a node the table already has is kept. Returns false, installing nothing,
+  /// for an index out of range or a node that fails the check. Not to be run concurrently with
+  /// spectra(). Cost: O(N).
   bool adopt_node(std::size_t index, std::span<const float> values);
   /// True when nodes were computed since construction (worth saving). Cost: O(1).
   bool dirty() const { return stats_.nodes_computed.load() > 0; }

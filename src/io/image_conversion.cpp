@@ -15,8 +15,11 @@ namespace fs = std::filesystem;
 namespace spectralize {
 
 struct ImageConversion::Parts {
-  std::unique_ptr<Spectralizer> spectralizer;
-  std::unique_ptr<SpectralTable> table;
+  std::unique_ptr<Spectralizer> own_spectralizer;  // when no pool is shared
+  std::unique_ptr<SpectralTable> own_table;
+  const Spectralizer* spectralizer = nullptr;
+  SpectralTable* table = nullptr;
+  bool shared = false;  // the pool loads and saves the cache
   std::unique_ptr<SpectralImageLayout> layout;
   std::unique_ptr<SpectralConverter> converter;
   std::string cache_key;
@@ -24,7 +27,8 @@ struct ImageConversion::Parts {
 
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
-                                 const Settings& settings, const LogFn& log)
+                                 const Settings& settings, const LogFn& log, TablePool* pool,
+                                 const std::map<std::string, std::string>& attributes)
     : parts_(std::make_unique<Parts>()) {
   if (settings.integer_bits != 0)
     throw Error("format uint" + std::to_string(settings.integer_bits) +
@@ -57,9 +61,20 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
              "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
 
   Parts& p = *parts_;
-  p.spectralizer = std::make_unique<Spectralizer>(s.spectral);
-  p.table = std::make_unique<SpectralTable>(*p.spectralizer, s.method);
-  load_cache(log, warn);
+  if (pool) {
+    TablePool::Entry& e = pool->get(s, log);
+    p.spectralizer = e.spectralizer.get();
+    p.table = e.table.get();
+    p.shared = true;
+    rep.cache_file = e.cache_file;
+    rep.cache_status = e.cache_status;
+  } else {
+    p.own_spectralizer = std::make_unique<Spectralizer>(s.spectral);
+    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method);
+    p.spectralizer = p.own_spectralizer.get();
+    p.table = p.own_table.get();
+    load_cache(log, warn);
+  }
 
   // The output: previews in the config's scene-linear space (the shipped config: Linear
   // Rec.709), then alpha and the bands.
@@ -69,7 +84,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.preview_colorspace = s.preview_colorspace.empty() ? default_colour_space(spaces, true).first
                                                         : spaces.resolve(s.preview_colorspace);
   p.layout = spectral_exr_layout(
-      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time});
+      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, attributes});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
@@ -146,7 +161,7 @@ const ImageReport& ImageConversion::finish(const LogFn& log) {
     warn("'" + in + "': " + std::to_string(c.half_overflow) +
          " pixels have samples above HALF's maximum 65504 and were clamped; use --format float "
          "to keep them");
-  if (!report_.cache_file.empty() && p.table->dirty()) {
+  if (!p.shared && !report_.cache_file.empty() && p.table->dirty()) {
     const std::string why = save_table_cache(*p.table, report_.cache_file, p.cache_key);
     if (!why.empty()) {
       const std::string message = "cache '" + report_.cache_file + "' not saved: " + why;

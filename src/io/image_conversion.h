@@ -7,12 +7,14 @@
 #include <OpenImageIO/imageio.h>
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "io/image_report.h"
 #include "io/job_log.h"
 #include "io/settings.h"
+#include "io/table_pool.h"
 
 namespace spectralize {
 
@@ -22,9 +24,12 @@ class ImageConversion {
   /// rules need `input`'s name), builds the spectralizer and table (loading the cache of
   /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
   /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file.
+  /// `pool`: share the spectralizer and table of a batch (and its cache) instead of building
+  /// them; `attributes`: extra string attributes for the output's header.
   ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                   const std::string& format_name, bool straight_alpha, const Settings& settings,
-                  const LogFn& log);
+                  const LogFn& log, TablePool* pool = nullptr,
+                  const std::map<std::string, std::string>& attributes = {});
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

@@ -119,16 +119,17 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 }  // namespace
 
 ImageReport run_image_job(const std::string& input, const std::string& output,
-                          const Settings& settings, const ProgressFn& progress, const LogFn& log) {
+                          const Settings& settings, const ProgressFn& progress, const LogFn& log,
+                          TablePool* pool, const std::map<std::string, std::string>& attributes) {
   install_cleanup_handlers();
   const auto t_start = Clock::now();
   const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
   ImageReader reader(input, out_channels, /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, std::span<const std::string>(&input, 1));
-  limit_threads(settings.threads);
+  if (!pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
   ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
-                             settings, log);
+                             settings, log, pool, attributes);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <tuple>
 
 #include "core/colorimetry.h"
 #include "core/error.h"
@@ -252,6 +253,59 @@ std::vector<SettingSpec> make_schema() {
                                                 : PlotScale::normalized;
                },
                [](const Settings& v) { return std::string(to_string(v.plot_scale)); }, nullptr});
+  // Batch ingest (io/ingest.h).
+  s.push_back({"name_pattern", "--name-pattern", "PATTERN", "",
+               "Output path under the destination: {dir} (the input's folder relative to its "
+               "source), {stem}, {ext}; must end in .exr",
+               kIngest, false, false,
+               [](Settings& v, std::string_view t) {
+                 const std::string p(t);
+                 if (p.size() < 5 || p.substr(p.size() - 4) != ".exr" ||
+                     p.find("{stem}") == std::string::npos)
+                   throw Error(quoted(t) + " must contain {stem} and end in .exr");
+                 v.ingest.name_pattern = p;
+               },
+               [](const Settings& v) { return v.ingest.name_pattern; }, nullptr});
+  for (const auto& [key, flag, what] :
+       {std::tuple{"data_names", "--data-names", "non-colour data, never spectralized"},
+        std::tuple{"emission_names", "--emission-names", "lights (emission)"},
+        std::tuple{"reflectance_names", "--reflectance-names", "surfaces (reflectance)"}}) {
+    const std::string k = key;
+    s.push_back({key, flag, "WORDS", "",
+                 std::string("Comma-separated words of file names that mark ") + what +
+                     " (split at _ - . and case changes, case-insensitive)",
+                 kIngest, false, false,
+                 [k](Settings& v, std::string_view t) {
+                   std::string words(t);
+                   for (char& c : words)
+                     c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+                   if (words.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789,") !=
+                       std::string::npos)
+                     throw Error(quoted(t) + " must be comma-separated words (letters, digits)");
+                   (k == "data_names"       ? v.ingest.data_names
+                    : k == "emission_names" ? v.ingest.emission_names
+                                            : v.ingest.reflectance_names) = words;
+                 },
+                 [k](const Settings& v) {
+                   return k == "data_names"       ? v.ingest.data_names
+                          : k == "emission_names" ? v.ingest.emission_names
+                                                  : v.ingest.reflectance_names;
+                 },
+                 nullptr});
+  }
+  s.push_back({"data", "--data", "ACTION", "",
+               "Non-colour files (data colour spaces, data names): skip or copy them unchanged",
+               kIngest, false, false,
+               [](Settings& v, std::string_view t) {
+                 v.ingest.copy_data = choice(t, {"skip", "copy"}) == "copy";
+               },
+               [](const Settings& v) { return std::string(v.ingest.copy_data ? "copy" : "skip"); },
+               nullptr});
+  s.push_back({"jobs", "--jobs", "N", "",
+               "Files converted at once (0: one per core; each gets its share of --threads)",
+               kIngest, false, false,
+               [](Settings& v, std::string_view t) { v.ingest.jobs = whole(t, 0, 256); },
+               [](const Settings& v) { return std::to_string(v.ingest.jobs); }, nullptr});
   s.push_back({"method", "--method", "METHOD", "method",
                "table (exact interpolation of cached node spectra) or exact (every distinct "
                "colour solved directly; slow, for comparison)",

@@ -63,6 +63,7 @@ SpectralExrLayout::SpectralExrLayout(const LayoutRequest& r) : preview_(r.previe
       spec_.attribute("spectralize:" + std::string(setting.attribute), setting_value(setting, s));
   spec_.attribute("spectralize:colorspace", r.input_colorspace);
   spec_.attribute("spectralize:previewColorSpace", preview_);
+  for (const auto& [name, value] : r.attributes) spec_.attribute(name, value);
   tag_colour_space(spec_, r.spaces, preview_);
 }
 

@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <map>
 #include <memory>
 #include <string>
 
@@ -38,8 +39,9 @@ struct LayoutRequest {
   const Settings& settings;      // sample type, compression, tiling; the settings written
   std::string input_colorspace;  // recorded as spectralize:colorspace
   std::string preview_colorspace;
-  const ColourSpaces& spaces;  // to tag the previews
-  std::string date_time;       // EXIF DateTime
+  const ColourSpaces& spaces;                          // to tag the previews
+  std::string date_time;                               // EXIF DateTime
+  std::map<std::string, std::string> attributes = {};  // more string attributes to record
 };
 
 /// The spectral OpenEXR layout: R, G, B previews (tagged with their colour space), A when the

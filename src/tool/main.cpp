@@ -30,9 +30,19 @@ struct CommandFlag {
 };
 constexpr unsigned kPlots = kPlotColor | kPlotPixel;
 constexpr CommandFlag kCommandFlags[] = {
-    {"-o", "FILE", kImage | kToRgb | kColor | kPlots,
-     "The file to write: the spectral OpenEXR (images), the RGB OpenEXR (--to-rgb), a plot "
-     "(.png, .svg, ...), or the printed spectra (--color: .csv, .json)"},
+    {"-o", "FILE", kImage | kToRgb | kColor | kPlots | kIngest,
+     "The file to write: the spectral OpenEXR (images), the RGB image (--to-rgb), a plot "
+     "(.png, .svg, ...), the printed spectra (--color: .csv, .json), or the folder ingest "
+     "writes into"},
+    {"--inputs-from", "FILE", kIngest,
+     "ingest: a list of inputs, one per line: a path, or a JSON object with \"input\" and any "
+     "single-file setting for it"},
+    {"--manifest", "FILE", kIngest,
+     "ingest: the JSON Lines record of what happened (default: DESTDIR/spectralize-ingest.jsonl, "
+     "or a part per shard)"},
+    {"--shard", "I/N", kIngest,
+     "ingest: do shard I (0-based) of N of the batch (default from SLURM_ARRAY_TASK_ID and "
+     "SLURM_ARRAY_TASK_COUNT when set)"},
     {"--to-rgb", "FILE", kToRgb,
      "Integrate a spectral OpenEXR (S0 or T channels, any writer's) back to RGB(A)"},
     {"--color", "R,G,B", kColor | kPlotColor,
@@ -64,11 +74,9 @@ std::string command_name(Command c) {
 
 std::string commands_list(unsigned commands) {
   std::string out;
-  const std::pair<unsigned, const char*> names[] = {{kImage, "image"},
-                                                    {kToRgb, "--to-rgb"},
-                                                    {kColor, "--color"},
-                                                    {kPlotColor, "plots"},
-                                                    {kPlotPixel, "--plot-pixel"}};
+  const std::pair<unsigned, const char*> names[] = {
+      {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
+      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"}};
   for (const auto& [bit, name] : names)
     if ((commands & bit) && !(bit == kPlotColor && (commands & kColor)))
       out += (out.empty() ? "" : ", ") + std::string(name);
@@ -123,13 +131,13 @@ void print_help() {
       "  spectralize --color R,G,B [--color ...] [options]     spectra of colours (CSV, JSON)\n"
       "  spectralize --color R,G,B [...] -o PLOT.png|PLOT.svg  a plot of their spectra\n"
       "  spectralize --plot-pixel X,Y IN.exr -o PLOT.png       a plot of a pixel of a "
-      "spectral EXR\n\n"
+      "spectral EXR\n"
+      "  spectralize ingest SRC... -o DESTDIR [options]        a texture library (files, folders,\n"
+      "                                                        globs) to spectral OpenEXR\n\n"
       "Flags by command:\n");
-  const std::pair<unsigned, const char*> groups[] = {{kImage, "image"},
-                                                     {kToRgb, "--to-rgb"},
-                                                     {kColor, "--color"},
-                                                     {kPlotColor, "plots"},
-                                                     {kPlotPixel, "--plot-pixel"}};
+  const std::pair<unsigned, const char*> groups[] = {
+      {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
+      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"}};
   for (const auto& [command, name] : groups) {
     std::string flags;
     for (const CommandFlag& f : kCommandFlags)
@@ -157,6 +165,8 @@ void print_help() {
   print_entry("-h, --help", "Print this help and exit", width);
   print_entry("--version", "Print the version and exit", width);
   print_entry("--", "Everything after it is an input file, even if it starts with '-'", width);
+  print_entry("--force", "ingest: convert even what is up to date", width);
+  print_entry("--merge", "ingest: merge the shards' manifests of -o DESTDIR into one", width);
   fmt::print(
       "\nExit status: 0 done (warnings on stderr), 1 the job failed (the message names the "
       "file), 2 a wrong command line.\n");
@@ -210,6 +220,14 @@ Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& ve
     opt.verbosity = 0;
     opt.given.insert("-q");
   });
+  ap.arg("--force").hidden().action([&](OIIO::cspan<const char*>) {
+    opt.force = true;
+    opt.given.insert("--force");
+  });
+  ap.arg("--merge").hidden().action([&](OIIO::cspan<const char*>) {
+    opt.merge = true;
+    opt.given.insert("--merge");
+  });
   for (const CommandFlag& f : kCommandFlags)
     ap.arg((std::string(f.flag) + " " + f.metavar).c_str()).hidden().action(store(given, f.flag));
   std::set<std::string> registered;
@@ -226,7 +244,13 @@ Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& ve
 }
 
 // Which command the flags and inputs ask for; names the common slips. Throws UsageError.
-Command choose_command(const Options& opt) {
+Command choose_command(Options& opt) {
+  if (!opt.inputs.empty() && opt.inputs[0] == "ingest") {
+    opt.inputs.erase(opt.inputs.begin());
+    return kIngest;
+  }
+  if (opt.force || opt.merge)
+    throw UsageError{std::string(opt.force ? "--force" : "--merge") + " belongs to ingest"};
   if (!opt.plot_pixels.empty()) return kPlotPixel;
   if (!opt.colors.empty()) {
     if (!opt.inputs.empty()) {
@@ -285,9 +309,14 @@ void parse(int argc, const char** argv, Options& opt, bool& help, bool& version)
     if (flag == "-o") opt.output = value;
     if (flag == "--report") opt.report = value;
     if (flag == "--to-rgb") opt.to_rgb = value;
+    if (flag == "--inputs-from") opt.inputs_from = value;
+    if (flag == "--manifest") opt.manifest = value;
+    if (flag == "--shard") opt.shard = value;
   }
   for (const auto& [flag, value] : given)
-    if ((flag == "-o" || flag == "--report" || flag == "--to-rgb") && value.empty())
+    if ((flag == "-o" || flag == "--report" || flag == "--to-rgb" || flag == "--inputs-from" ||
+         flag == "--manifest") &&
+        value.empty())
       throw UsageError{flag + ": an empty file name"};
   opt.command = choose_command(opt);
   apply_flags(given, opt);
@@ -324,6 +353,9 @@ int main(int argc, const char** argv) {
         break;
       case kToRgb:
         status = run_to_rgb(opt);
+        break;
+      case kIngest:
+        status = run_ingest_command(opt);
         break;
       default:
         status = run_image(opt);

@@ -23,7 +23,13 @@ struct Options {
   std::string output;                    // -o
   std::string report;                    // --report FILE.json
   int verbosity = 1;                     // -q: 0, default 1, -v: 2
-  std::set<std::string> given;           // every flag given, for applicability checks
+  // ingest
+  std::string inputs_from;      // --inputs-from FILE
+  std::string manifest;         // --manifest FILE
+  std::string shard;            // --shard I/N
+  bool force = false;           // --force
+  bool merge = false;           // --merge
+  std::set<std::string> given;  // every flag given, for applicability checks
 };
 
 /// A command-line mistake: printed as "spectralize ERROR: ..." with exit status 2.
@@ -47,6 +53,11 @@ int run_image(const Options& options);
 /// io/spectrum_plot.h). Returns the exit status; throws UsageError / Error. Cost: one exact
 /// solve per colour plus the drawing, ~0.2 s.
 int run_plot_color(const Options& options);
+
+/// Runs `spectralize ingest SRC... -o DESTDIR` (or `--merge`): a library to spectral OpenEXR,
+/// its manifest and summary. Returns 0 when no file failed, 1 otherwise; throws UsageError.
+/// Cost: the conversions.
+int run_ingest_command(const Options& options);
 
 /// Runs `spectralize --plot-pixel X,Y IN.exr -o PLOT.png|.svg`: the spectrum of a pixel of any
 /// spectral EXR. Returns the exit status; throws UsageError / Error. Cost: reading the rows of

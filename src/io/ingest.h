@@ -1,0 +1,86 @@
+#pragma once
+// `spectralize ingest`: whole texture libraries to spectral OpenEXR (docs/DESIGN.md §12). The
+// inputs (files, folders walked recursively, glob patterns, a list file) are planned into
+// outputs that mirror their source trees; each file gets a decision with its reason (colour
+// space, mode, or non-colour data that is skipped or copied); outputs whose recorded inputs and
+// settings still match are skipped; the rest are converted in parallel through one shared node
+// table; a JSON Lines manifest records what happened. A batch splits deterministically into
+// shards for a farm (Slurm job arrays), whose manifests merge into one.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "io/job_log.h"
+#include "io/settings.h"
+
+namespace spectralize {
+
+/// What the command line asked for.
+struct IngestRequest {
+  std::vector<std::string> sources;  // files, folders (walked), glob patterns
+  std::string inputs_from;           // a list of inputs: paths, or JSON objects per line
+  std::string destination;           // the output folder
+  std::string manifest;              // the manifest to write ("" : in the destination)
+  bool force = false;                // convert even what is up to date
+  int shard = 0, shards = 1;         // this process does the files of shard `shard` of `shards`
+  Settings settings;                 // every file's settings (a list line may override them)
+};
+
+/// One planned file.
+struct IngestItem {
+  std::string input, output;  // paths as used
+  std::string relative;       // the output relative to the destination (mirrors the source)
+  Settings settings;          // the batch's, with a list line's overrides
+  std::string failure;        // set at planning (e.g. two inputs for one output)
+};
+
+struct IngestPlan {
+  IngestRequest request;
+  std::vector<IngestItem> items;  // this shard's files, in order
+  std::size_t all_items = 0;      // the whole batch (every shard)
+  std::size_t not_images = 0;     // files in walked folders that are not images (ignored)
+  std::string manifest;           // where the manifest goes
+};
+
+/// Walks, expands and reads the inputs, names the outputs, finds collisions and keeps this
+/// shard's files. Throws Error (a wrong command line: exit 2) for a destination inside a source
+/// folder, a missing source given by name, a malformed list (naming the line), a bad shard or
+/// no inputs at all. Cost: a directory walk and a stat per file.
+IngestPlan plan_ingest(const IngestRequest& request);
+
+/// Counts of a batch, for the summary and the manifest's last record.
+struct IngestSummary {
+  std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, failed = 0;
+  std::uint64_t pixels = 0, stale_temporaries_removed = 0;
+  double seconds = 0;
+  std::string manifest;
+  /// Files handled, all statuses. Cost: O(1).
+  std::uint64_t files() const {
+    return converted + up_to_date + skipped_data + copied_data + failed;
+  }
+};
+
+/// Progress across files: done of total, and one-line news of the file just finished.
+using IngestProgressFn =
+    std::function<void(std::uint64_t done, std::uint64_t total, const std::string& news)>;
+
+/// Runs the plan: up-to-date checks, decisions, conversions in parallel (settings.ingest.jobs)
+/// through one shared node table, the manifest (JSON Lines: a record per file, then a summary).
+/// One bad file never stops the others. Throws Error only when the manifest cannot be
+/// written. Cost: the conversions.
+IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress,
+                         const LogFn& log);
+
+/// Merges the shard manifests of `destination` (written by `--shard I/N` runs) into its
+/// manifest, "spectralize-ingest.jsonl", and returns the summary of all of them. Throws Error
+/// naming missing or malformed parts. Cost: O(records).
+IngestSummary merge_ingest_manifests(const std::string& destination);
+
+/// The words of a file name: split at non-alphanumerics and lower-to-upper case changes,
+/// lower-cased, with each pair joined too ("T_BaseColor" -> t, base, color, tbase, basecolor).
+/// Cost: O(length).
+std::vector<std::string> name_words(const std::string& stem);
+
+}  // namespace spectralize

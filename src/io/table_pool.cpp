@@ -1,0 +1,59 @@
+#include "io/table_pool.h"
+
+#include <filesystem>
+
+#include "io/table_cache.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+
+TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
+  // The key names everything the node spectra depend on (and the method: exact tables differ).
+  auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
+  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method);
+  const std::string key = table_cache_key(s, table->layout()) +
+                          (s.method == SpectralTable::Method::exact ? "; exact" : "");
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = entries_.find(key);
+  if (it != entries_.end()) return *it->second;
+  auto entry = std::make_unique<Entry>();
+  entry->key = key;
+  entry->spectralizer = std::move(spectralizer);
+  entry->table = std::move(table);
+  if (!s.cache_dir.empty() && s.method == SpectralTable::Method::table) {
+    std::error_code ec;
+    fs::create_directories(s.cache_dir, ec);
+    if (fs::is_directory(s.cache_dir, ec)) {
+      entry->file_key = table_cache_key(s, entry->table->layout());
+      entry->cache_file = table_cache_file(s.cache_dir, entry->file_key);
+      const std::string why = load_table_cache(*entry->table, entry->cache_file, entry->file_key);
+      entry->cache_status = why.empty()
+                                ? (entry->table->stats().nodes_loaded > 0 ? "loaded" : "new")
+                                : "rebuilt: " + why;
+      if (!why.empty()) log(0, "cache '" + entry->cache_file + "' ignored and rebuilt: " + why);
+    } else {
+      log(0, "--cache '" + s.cache_dir +
+                 "': not a folder that can be created; running without a persistent cache");
+    }
+  }
+  Entry& ref = *entry;
+  entries_[key] = std::move(entry);
+  return ref;
+}
+
+std::vector<std::string> TablePool::save() {
+  std::vector<std::string> warnings;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto& [key, e] : entries_) {
+    if (e->cache_file.empty() || !e->table->dirty()) continue;
+    // Nodes another process saved meanwhile are adopted first (each is checked), so the file
+    // grows by what both computed instead of keeping the last writer's only.
+    (void)load_table_cache(*e->table, e->cache_file, e->file_key);
+    const std::string why = save_table_cache(*e->table, e->cache_file, e->file_key);
+    if (!why.empty()) warnings.push_back("cache '" + e->cache_file + "' not saved: " + why);
+  }
+  return warnings;
+}
+
+}  // namespace spectralize

@@ -1,0 +1,39 @@
+#pragma once
+// Spectralizers and their node tables shared by every file of a batch (docs/DESIGN.md §4): one
+// table per combination of the settings the spectra depend on, loaded once from the --cache
+// folder and saved once at the end, merged with what other processes saved meanwhile.
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "core/spectral_table.h"
+#include "core/spectralizer.h"
+#include "io/job_log.h"
+#include "io/settings.h"
+
+namespace spectralize {
+
+class TablePool {
+ public:
+  /// The shared spectralizer and table for these settings (mode resolved), with its cache file
+  /// and status; built (and loaded from settings.cache_dir) on first use. Thread-safe.
+  /// Cost: ~1 ms plus loading the cache file the first time, O(log tables) after.
+  struct Entry {
+    std::unique_ptr<Spectralizer> spectralizer;
+    std::unique_ptr<SpectralTable> table;
+    std::string key, file_key, cache_file, cache_status;
+  };
+  Entry& get(const Settings& settings, const LogFn& log);
+
+  /// Saves every table that grew to its cache file (merged with the file's current nodes, so
+  /// concurrent batches on one folder add up). Returns the warnings. Cost: O(nodes).
+  std::vector<std::string> save();
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<Entry>> entries_;
+};
+
+}  // namespace spectralize
