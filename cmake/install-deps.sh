@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev libeigen3-dev
   clang-format
   fonts-dejavu-core
+  slurmctld slurmd slurm-client munge
 )
 
 missing=()

@@ -171,15 +171,14 @@ std::string output_name(const std::string& pattern, const Found& f) {
   return rel;
 }
 
+// The longest word of the name that is in `list` ("basecolor" rather than "color").
 bool word_in(const std::vector<std::string>& words, const std::string& list, std::string& hit) {
   std::set<std::string> names;
   for (const auto& n : OIIO::Strutil::splits(list, ",")) names.insert(n);
+  hit.clear();
   for (const auto& w : words)
-    if (names.count(w)) {
-      hit = w;
-      return true;
-    }
-  return false;
+    if (names.count(w) && w.size() > hit.size()) hit = w;
+  return !hit.empty();
 }
 
 // What identifies the OCIO config a batch uses, for the up-to-date key.
@@ -480,7 +479,9 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   OIIO::attribute("exr_threads", total_threads);
   std::error_code ec;
   fs::create_directories(plan.request.destination, ec);
-  // The manifest's place is checked (and its temporary file made) before any work.
+  // The manifest's place is checked (and its temporary file made) before any work; a killed
+  // earlier run's temporary manifest goes.
+  const std::uint64_t stale_manifests = remove_stale_temporaries(fs::path(plan.manifest));
   AtomicOutput manifest(plan.manifest, {}, /*allow_stream=*/true);
 
   Batch batch{plan, log, config_identity(base), std::max(1, total_threads / jobs), {}, {}};
@@ -498,11 +499,11 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
       if (status == "up_to_date") ++sum.up_to_date;
       if (status == "skipped_data") ++sum.skipped_data;
       if (status == "copied_data") ++sum.copied_data;
-      if (status == "failed") {
-        ++sum.failed;
-        log(0, r["message"].get<std::string>());
-      }
-      if (progress) progress(++done, plan.items.size(), status + " " + plan.items[i].input);
+      if (status == "failed") ++sum.failed;
+      if (progress)
+        progress(++done, plan.items.size(),
+                 status == "failed" ? "failed: " + r["message"].get<std::string>()
+                                    : status + " " + plan.items[i].input);
       records[i] = std::move(r);
     }
   };
@@ -512,7 +513,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   for (auto& t : threads) t.join();
   for (const std::string& w : batch.pool.save()) log(0, w);
 
-  sum.stale_temporaries_removed = batch.stale;
+  sum.stale_temporaries_removed = batch.stale + stale_manifests;
   sum.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   sum.manifest = plan.manifest;
   std::string text;

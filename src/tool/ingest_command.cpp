@@ -101,6 +101,10 @@ int run_ingest_command(const Options& opt) {
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   IngestProgressFn progress = [&](std::uint64_t done, std::uint64_t total,
                                   const std::string& news) {
+    // A file that failed is an error on stderr, whatever the verbosity; the batch goes on.
+    if (news.rfind("failed: ", 0) == 0)
+      fmt::print(stderr, "{}spectralize ERROR: {}\n", tty && opt.verbosity > 0 ? "\n" : "",
+                 news.substr(8));
     if (opt.verbosity == 0) return;
     if (tty) {
       const int filled = static_cast<int>(30.0 * done / std::max<std::uint64_t>(1, total));

@@ -1,0 +1,285 @@
+// `spectralize ingest` through the real binary: decisions with reasons, data maps never
+// spectralized, mirrored outputs, up-to-date reruns, interrupted batches that finish on rerun,
+// bad inputs that do not stop the others, shards and their merge. The oracles are the file
+// system, the manifest read as JSON, and the outputs read back with OIIO.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <thread>
+
+#include "exr_support.h"
+
+namespace fs = std::filesystem;
+using e2e::run;
+using Json = nlohmann::json;
+
+namespace {
+
+const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
+
+struct Scratch : e2e::Scratch {
+  Scratch() : e2e::Scratch("spectralize_ingest") {}
+};
+
+// A small library: textures by name, data maps, lights, a non-image file, in folders.
+void make_library(const Scratch& s) {
+  fs::create_directories(s / "lib/walls");
+  fs::create_directories(s / "lib/sky");
+  fs::copy_file(kImages + "colorchecker_srgb8.png", s / "lib/walls/brick_BaseColor.png");
+  fs::copy_file(kImages + "colorchecker_srgb16.png", s / "lib/walls/brick_albedo_srgb.png");
+  fs::copy_file(kImages + "grey_ramp8.png", s / "lib/walls/brick_Normal.png");
+  fs::copy_file(kImages + "grey_ramp8.png", s / "lib/walls/brick-roughness.png");
+  fs::copy_file(kImages + "hdri_sunset_256x128.exr", s / "lib/sky/sunset_hdri.exr");
+  fs::copy_file(kImages + "hdri_forest_256x128.exr", s / "lib/sky/forest.exr");
+  std::ofstream(s / "lib/notes.txt") << "not an image";
+}
+
+std::vector<Json> manifest(const std::string& path) {
+  std::vector<Json> out;
+  std::ifstream f(path);
+  for (std::string line; std::getline(f, line);) out.push_back(Json::parse(line));
+  return out;
+}
+
+Json record(const std::vector<Json>& m, const std::string& input_suffix) {
+  for (const Json& r : m)
+    if (r.contains("input") && r["input"].get<std::string>().size() >= input_suffix.size() &&
+        r["input"].get<std::string>().rfind(input_suffix) ==
+            r["input"].get<std::string>().size() - input_suffix.size())
+      return r;
+  return Json();
+}
+
+TEST(Ingest, DecidesEachFileWithItsReasonAndMirrorsTheTree) {
+  Scratch s;
+  make_library(s);
+  auto r = run("ingest " + (s / "lib") + " -o " + (s / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto m = manifest(s / "out/spectralize-ingest.jsonl");
+  ASSERT_EQ(m.size(), 7u);  // six images (the .txt is not one) and the summary
+  Json j = record(m, "brick_BaseColor.png");
+  EXPECT_EQ(j["status"], "converted");
+  EXPECT_EQ(j["output"], s / "out/walls/brick_BaseColor.exr");
+  EXPECT_EQ(j["mode"], "reflectance");
+  EXPECT_EQ(j["mode_reason"], "name rule 'basecolor'");
+  EXPECT_EQ(j["colorspace"], "sRGB - Texture");
+  j = record(m, "brick_albedo_srgb.png");
+  EXPECT_EQ(j["colorspace_reason"], "the config's file rule 'sRGB'");
+  for (const char* data : {"brick_Normal.png", "brick-roughness.png"}) {
+    j = record(m, data);
+    EXPECT_EQ(j["status"], "skipped_data") << data;
+    EXPECT_NE(j["reason"].get<std::string>().find("data name rule"), std::string::npos);
+  }
+  EXPECT_FALSE(fs::exists(s / "out/walls/brick_Normal.exr"));
+  j = record(m, "sunset_hdri.exr");
+  EXPECT_EQ(j["mode"], "emission");
+  EXPECT_EQ(j["mode_reason"], "name rule 'hdri'");
+  j = record(m, "forest.exr");
+  EXPECT_EQ(j["mode_reason"], "auto: floating-point data is light (emission)");
+  const Json& sum = m.back()["summary"];
+  EXPECT_EQ(sum["converted"], 4);
+  EXPECT_EQ(sum["skipped_data"], 2);
+  EXPECT_EQ(sum["failed"], 0);
+  // The outputs are the single-file command's, byte for byte but for the recorded source.
+  const e2e::Exr batch = e2e::read_exr(s / "out/walls/brick_BaseColor.exr");
+  ASSERT_EQ(run(s / "lib/walls/brick_BaseColor.png" + std::string(" -q -o ") + (s / "one.exr") +
+                " --mode reflectance")
+                .exit_code,
+            0);
+  const e2e::Exr single = e2e::read_exr(s / "one.exr");
+  EXPECT_EQ(batch.pixels, single.pixels);
+  // Data maps copied unchanged on request.
+  r = run("ingest " + (s / "lib") + " -o " + (s / "out") + " --data copy -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(e2e::slurp(s / "out/walls/brick_Normal.png"),
+            e2e::slurp(s / "lib/walls/brick_Normal.png"));
+  // A data colour space by the config marks a file as data too.
+  r = run("ingest " + (s / "lib/sky/forest.exr") + " -o " + (s / "raw") + " --colorspace Raw");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(record(manifest(s / "raw/spectralize-ingest.jsonl"), "forest.exr")["status"],
+            "skipped_data");
+}
+
+// Truth: a rerun with nothing changed converts nothing and takes well under a millisecond per
+// file; a touched input and changed settings are converted again; --force redoes everything.
+TEST(Ingest, RerunsSkipWhatIsUpToDate) {
+  Scratch s;
+  make_library(s);
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q").exit_code, 0);
+  const auto mtime = fs::last_write_time(s / "out/walls/brick_BaseColor.exr");
+  auto r = run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto m = manifest(s / "out/spectralize-ingest.jsonl");
+  EXPECT_EQ(m.back()["summary"]["up_to_date"], 4);
+  EXPECT_EQ(m.back()["summary"]["converted"], 0);
+  EXPECT_EQ(fs::last_write_time(s / "out/walls/brick_BaseColor.exr"), mtime);
+  for (const Json& j : m)
+    if (j.value("status", "") == "up_to_date") EXPECT_LT(j["seconds"].get<double>(), 1e-3);
+  // The input changes: converted again.
+  fs::last_write_time(
+      s / "lib/walls/brick_BaseColor.png",
+      fs::last_write_time(s / "lib/walls/brick_BaseColor.png") + std::chrono::seconds(5));
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q").exit_code, 0);
+  m = manifest(s / "out/spectralize-ingest.jsonl");
+  EXPECT_EQ(record(m, "brick_BaseColor.png")["status"], "converted");
+  EXPECT_EQ(m.back()["summary"]["converted"], 1);
+  // Settings that change the spectra: everything again; --force: everything again.
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q --wavelengths 400:700:10")
+                .exit_code,
+            0);
+  EXPECT_EQ(manifest(s / "out/spectralize-ingest.jsonl").back()["summary"]["converted"], 4);
+  ASSERT_EQ(
+      run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q --wavelengths 400:700:10 --force")
+          .exit_code,
+      0);
+  EXPECT_EQ(manifest(s / "out/spectralize-ingest.jsonl").back()["summary"]["converted"], 4);
+}
+
+// Truth: a batch killed at any moment (SIGINT, SIGTERM, SIGKILL) finishes on rerun, and the
+// rerun leaves no temporary or partial file.
+TEST(IngestSlow, KilledBatchesFinishOnRerun) {
+  Scratch s;
+  fs::create_directories(s / "lib");
+  for (int i = 0; i < 6; ++i)
+    fs::copy_file(kImages + "hdri_interior_1024x512.exr",
+                  s / ("lib/map" + std::to_string(i) + ".exr"));
+  for (int sig : {SIGINT, SIGTERM, SIGKILL}) {
+    SCOPED_TRACE(sig);
+    fs::remove_all(s / "out");
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const int devnull = ::open("/dev/null", O_WRONLY);
+      ::dup2(devnull, 2);
+      const std::string lib = s / "lib", out = s / "out";
+      ::execl(SPECTRALIZE_BINARY, SPECTRALIZE_BINARY, "ingest", lib.c_str(), "-o", out.c_str(),
+              "--jobs", "1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // Kill it while the second file is being written.
+    const auto t0 = std::chrono::steady_clock::now();
+    while (!fs::exists(s / "out/map0.exr") &&
+           std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ::kill(pid, sig);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    auto r = run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto m = manifest(s / "out/spectralize-ingest.jsonl");
+    EXPECT_GE(m.back()["summary"]["up_to_date"].get<int>(), 1);
+    EXPECT_EQ(
+        m.back()["summary"]["up_to_date"].get<int>() + m.back()["summary"]["converted"].get<int>(),
+        6);
+    for (const auto& e : fs::directory_iterator(s / "out"))
+      EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+    for (int i = 0; i < 6; ++i)
+      EXPECT_EQ(e2e::read_exr(s / ("out/map" + std::to_string(i) + ".exr")).width, 1024);
+  }
+}
+
+// Bad inputs: each gets a message naming the file; the others carry on; exit 1. Wrong command
+// lines: exit 2 with nothing written.
+TEST(Ingest, BadInputsDoNotStopTheOthers) {
+  Scratch s;
+  make_library(s);
+  std::ofstream(s / "lib/walls/broken.png") << "not a png";
+  fs::create_directories(s / "flat");
+  fs::copy_file(kImages + "grey_ramp8.png", s / "flat/a.png");
+  fs::copy_file(kImages + "grey_ramp8.png", s / "flat/a.jpg");  // same output name: a.exr
+  auto r = run("ingest " + (s / "lib") + " " + (s / "flat") + " " + (s / "missing.png") + " -o " +
+               (s / "out") + " -q");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("broken.png"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("missing.png"), std::string::npos) << r.err;
+  const auto m = manifest(s / "out/spectralize-ingest.jsonl");
+  EXPECT_EQ(record(m, "broken.png")["status"], "failed");
+  EXPECT_EQ(record(m, "missing.png")["status"], "failed");
+  EXPECT_EQ(record(m, "flat/a.png")["status"], "failed");
+  EXPECT_NE(record(m, "flat/a.jpg")["message"].get<std::string>().find("would all be written"),
+            std::string::npos);
+  EXPECT_EQ(record(m, "brick_BaseColor.png")["status"], "converted");
+  EXPECT_FALSE(fs::exists(s / "out/a.exr"));
+  // Wrong command lines.
+  for (const std::string& args :
+       {"ingest " + (s / "lib") + " -o " + (s / "lib/out"),
+        "ingest " + (s / "lib") + " -o " + (s / "o2") + " --shard 3/2",
+        "ingest " + (s / "lib") + " -o " + (s / "o2") + " --shard 0/0", "ingest -o " + (s / "o2"),
+        "ingest " + (s / "lib") + " -o " + (s / "o2") + " --name-pattern {stem}.png"}) {
+    r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(s / "lib/out"));
+  EXPECT_FALSE(fs::exists(s / "o2"));
+  std::ofstream(s / "list.txt") << "lib/walls/brick_BaseColor.png\n{\"input\": 3}\n";
+  r = run("ingest --inputs-from " + (s / "list.txt") + " -o " + (s / "o3"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
+  // An output folder that cannot be created: that file fails, naming it.
+  std::ofstream(s / "blocker") << "a file where a folder should be";
+  r = run("ingest " + (s / "lib/sky") + " -o " + (s / "blocker/out") + " -q");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("blocker"), std::string::npos) << r.err;
+}
+
+// A list file with per-file settings, and shards whose manifests merge into the batch's.
+TEST(Ingest, ListsShardsAndMerge) {
+  Scratch s;
+  make_library(s);
+  std::ofstream(s / "list.txt")
+      << "# per-file settings\nlib/walls/brick_BaseColor.png\n"
+         "{\"input\": \"lib/sky/forest.exr\", \"wavelengths\": \"400:700:10\"}\n";
+  auto r = run("ingest --inputs-from " + (s / "list.txt") + " -o " + (s / "o") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(e2e::read_exr(s / "o/lib/sky/forest.exr").channels.size(), 3u + 31u);
+  EXPECT_EQ(e2e::read_exr(s / "o/lib/walls/brick_BaseColor.exr").channels.size(), 3u + 81u);
+  for (int i = 0; i < 3; ++i) {
+    r = run("ingest " + (s / "lib") + " -o " + (s / "sh") + " -q --shard " + std::to_string(i) +
+            "/3");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  // The same split from Slurm's array variables.
+  r = run("ingest " + (s / "lib") + " -o " + (s / "sl") + " -q",
+          "SLURM_ARRAY_TASK_ID=5 SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / "sl/spectralize-ingest.part-1-of-3.jsonl"));
+  EXPECT_EQ(manifest(s / "sl/spectralize-ingest.part-1-of-3.jsonl").size(),
+            manifest(s / "sh/spectralize-ingest.part-1-of-3.jsonl").size());
+  r = run("ingest --merge -o " + (s / "sh"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto m = manifest(s / "sh/spectralize-ingest.jsonl");
+  EXPECT_EQ(m.size(), 7u);
+  EXPECT_EQ(m.back()["summary"]["converted"], 4);
+  fs::remove(s / "sh/spectralize-ingest.part-2-of-3.jsonl");
+  r = run("ingest --merge -o " + (s / "sh"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("shards 2 of 3"), std::string::npos) << r.err;
+}
+
+// Truth: a batch holds one shared node table: the cache file it leaves serves a second batch
+// without a node solve, and two batches on one cache folder at once leave an intact cache.
+TEST(Ingest, OneSharedCache) {
+  Scratch s;
+  make_library(s);
+  const std::string cache = s / "cache";
+  const std::string bin = SPECTRALIZE_BINARY;
+  const std::string cmd = bin + " ingest " + (s / "lib") + " -o " + (s / "a") + " -q --cache " +
+                          cache + " & " + bin + " ingest " + (s / "lib") + " -o " + (s / "b") +
+                          " -q --cache " + cache + " & wait";
+  ASSERT_EQ(std::system(("sh -c '" + cmd + "'").c_str()), 0);
+  auto r = run(s / "lib/walls/brick_BaseColor.png" + std::string(" -o ") + (s / "x.exr") +
+               " --mode reflectance -v --cache " + cache);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("cache: 0 nodes computed"), std::string::npos) << r.err;
+}
+
+}  // namespace
