@@ -75,6 +75,7 @@ docs-figures: figures
 bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
+	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
 
 SOURCES = $(shell find src tests oiio_plugin -name '*.cpp' -o -name '*.h' 2>/dev/null)
 
