@@ -2,8 +2,10 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
+# The interpreter Debian's numpy, pybind11 and OpenImageIO bindings belong to.
+PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: all deps configure build test test-long demo bench format format-check clean test-asan \
+.PHONY: all deps configure build test test-long demo bench install format format-check clean test-asan \
 	test-tsan fuzz figures validate docs-figures
 FUZZ_SECONDS ?= 60
 
@@ -54,6 +56,12 @@ fuzz: deps
 	    build-fuzz/corpus/$$t tests/fuzz/corpus/$$t 2>&1 | grep -E "^(stat::number_of_executed_units|stat::new_units_added|==[0-9]+==ERROR|SUMMARY|Done)" ; \
 	done
 
+# Installs into PREFIX (default /usr/local): the tool, the OIIO plugin, the OCIO config and
+# data, headers and CMake package of the core library, the Python module.
+PREFIX ?= /usr/local
+install: deps build
+	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
 demo: deps build
 	@bash cmake/demo.sh $(BUILD_DIR)
 
@@ -76,8 +84,9 @@ bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
+	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 
-SOURCES = $(shell find src tests oiio_plugin -name '*.cpp' -o -name '*.h' 2>/dev/null)
+SOURCES = $(shell find src tests oiio_plugin python -name '*.cpp' -o -name '*.h' 2>/dev/null)
 
 format:
 	@clang-format -i $(SOURCES)

@@ -36,3 +36,12 @@ if(NOT TARGET OpenColorIO::OpenColorIO)
 endif()
 
 find_program(OCIOCHECK_EXECUTABLE ociocheck)
+
+# The Python module is built for the interpreter Debian's python3-numpy, pybind11 and
+# OpenImageIO bindings belong to (/usr/bin/python3), not for one earlier in PATH (pyenv,
+# conda); -DPython3_EXECUTABLE=... chooses another.
+if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+  set(Python3_EXECUTABLE /usr/bin/python3)
+endif()
+find_package(Python3 COMPONENTS Interpreter Development.Module)
+find_package(pybind11 CONFIG QUIET)

@@ -13,6 +13,8 @@ packages=(
   clang-format
   fonts-dejavu-core
   slurmctld slurmd slurm-client munge
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
+  python3-matplotlib
 )
 
 missing=()

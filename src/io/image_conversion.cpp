@@ -134,33 +134,11 @@ const ImageReport& ImageConversion::finish(const LogFn& log) {
   report_.counts = p.converter->counts();
   report_.cache = p.table->stats();
   // What was not a plain exact conversion, for people and for the report.
-  const PixelCounts& c = report_.counts;
-  const std::string& in = report_.input;
-  auto warn = [&](const std::string& message) {
-    report_.warnings.push_back(message);
-    log(0, message);
-  };
-  if (c.invalid > 0)
-    warn("'" + in + "': " + std::to_string(c.invalid) +
-         " pixels are NaN or infinite: written as zero spectra");
-  if (c.alpha_invalid > 0)
-    warn("'" + in + "': " + std::to_string(c.alpha_invalid) +
-         " pixels have an alpha that is NaN, infinite or outside 0..1: written clamped to 0..1 "
-         "(NaN as 0)");
-  if (report_.out_of_gamut_pixels() > 0)
-    warn("'" + in + "': " + std::to_string(report_.out_of_gamut_pixels()) +
-         " pixels out of gamut and mapped (" + std::to_string(c.negative) +
-         " negative luminance -> black, " + std::to_string(c.outside_locus) +
-         " outside the spectral locus, " + std::to_string(c.outside_solid) +
-         " outside the reflectance solid)");
-  if (c.brighter_than_white > 0)
-    warn("'" + in + "': " + std::to_string(c.brighter_than_white) +
-         " pixels are brighter than a white surface (reflectances are 0..1; is this light, "
-         "--mode emission, or data in other units?): dimmed into the reflectance solid");
-  if (c.half_overflow > 0)
-    warn("'" + in + "': " + std::to_string(c.half_overflow) +
-         " pixels have samples above HALF's maximum 65504 and were clamped; use --format float "
-         "to keep them");
+  for (const std::string& w : count_warnings(report_.counts, "'" + report_.input + "'", "pixels",
+                                             OptionNames{"--", "-o"})) {
+    report_.warnings.push_back(w);
+    log(0, w);
+  }
   if (!p.shared && !report_.cache_file.empty() && p.table->dirty()) {
     const std::string why = save_table_cache(*p.table, report_.cache_file, p.cache_key);
     if (!why.empty()) {

@@ -18,6 +18,36 @@ void put_settings(Json& j, const Settings& s, Command command) {
 
 }  // namespace
 
+std::vector<std::string> count_warnings(const PixelCounts& c, const std::string& subject,
+                                        const std::string& noun, const OptionNames& names) {
+  std::vector<std::string> w;
+  const std::string n = " " + noun;
+  if (c.invalid > 0)
+    w.push_back(subject + ": " + std::to_string(c.invalid) + n +
+                " are NaN or infinite: written as zero spectra");
+  if (c.alpha_invalid > 0)
+    w.push_back(subject + ": " + std::to_string(c.alpha_invalid) + n +
+                " have an alpha that is NaN, infinite or outside 0..1: written clamped to 0..1 "
+                "(NaN as 0)");
+  const std::uint64_t mapped = c.negative + c.outside_locus + c.outside_solid;
+  if (mapped > 0)
+    w.push_back(subject + ": " + std::to_string(mapped) + n + " out of gamut and mapped (" +
+                std::to_string(c.negative) + " negative luminance -> black, " +
+                std::to_string(c.outside_locus) + " outside the spectral locus, " +
+                std::to_string(c.outside_solid) + " outside the reflectance solid)");
+  if (c.brighter_than_white > 0)
+    w.push_back(subject + ": " + std::to_string(c.brighter_than_white) + n +
+                " are brighter than a white surface (reflectances are 0..1; is this light, " +
+                names("mode") +
+                " emission, or data in other units?): dimmed into the "
+                "reflectance solid");
+  if (c.half_overflow > 0)
+    w.push_back(subject + ": " + std::to_string(c.half_overflow) + n +
+                " have samples above HALF's maximum 65504 and were clamped; use " +
+                names("format") + " float to keep them");
+  return w;
+}
+
 std::string report_json(const ImageReport& r, int indent) {
   Json j;
   j["input"] = r.input;

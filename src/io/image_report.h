@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/spectral_table.h"
+#include "io/job_settings.h"
 #include "io/settings.h"
 #include "io/spectral_converter.h"
 
@@ -51,6 +52,12 @@ struct ToRgbReport {
   std::vector<std::string> warnings;
   double seconds = 0;
 };
+
+/// The warnings a conversion's counts call for (NaN or infinite colours, bad alpha, out of
+/// gamut, brighter than white, HALF overflow), each starting with `subject` ("'albedo.png'",
+/// "rgb") and counting `noun` ("pixels", "colours"); options spelt as `names` does. Cost: O(1).
+std::vector<std::string> count_warnings(const PixelCounts& counts, const std::string& subject,
+                                        const std::string& noun, const OptionNames& names);
 
 /// The report as JSON text (indent < 0: one line). Cost: O(report).
 std::string report_json(const ImageReport& report, int indent = 2);

@@ -272,6 +272,12 @@ Json summary_json(const IngestSummary& s) {
 
 }  // namespace
 
+std::string ingest_summary_json(const IngestSummary& summary) {
+  Json j = summary_json(summary)["summary"];
+  j["manifest"] = summary.manifest;
+  return j.dump();
+}
+
 std::vector<std::string> name_words(const std::string& stem) {
   std::vector<std::string> parts;
   std::string cur;

@@ -62,6 +62,10 @@ struct IngestSummary {
   }
 };
 
+/// The counts as one JSON object (files, converted, ..., seconds, manifest): the manifest's
+/// summary record. Cost: O(1).
+std::string ingest_summary_json(const IngestSummary& summary);
+
 /// Progress across files: done of total, and one-line news of the file just finished.
 using IngestProgressFn =
     std::function<void(std::uint64_t done, std::uint64_t total, const std::string& news)>;

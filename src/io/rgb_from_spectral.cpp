@@ -14,6 +14,40 @@
 
 namespace spectralize {
 
+namespace {
+
+// At least two bands, and some inside the CIE tables (360-830 nm), or no colour can be made.
+void check_band_span(std::size_t bands, double first_nm, double last_nm, const std::string& where) {
+  if (bands < 2) throw Error(where + "has a single spectral band; a spectrum needs two");
+  if (last_nm <= ReferenceTable::kStartNm ||
+      first_nm >= ReferenceTable::kStartNm + ReferenceTable::kSize - 1)
+    throw Error(where + "has no band inside 360-830 nm, where colour is defined (" +
+                std::to_string(first_nm) + " to " + std::to_string(last_nm) + " nm)");
+}
+
+}  // namespace
+
+SpectralLayoutInfo spectral_layout_of_samples(const std::vector<double>& wavelengths, bool emissive,
+                                              const std::string& where) {
+  SpectralLayoutInfo info;
+  info.emissive = emissive;
+  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
+    if (!std::isfinite(wavelengths[i]))
+      throw Error(where + "wavelength " + std::to_string(i) + " is not finite");
+    if (i > 0 && !(wavelengths[i] > wavelengths[i - 1]))
+      throw Error(where + "wavelengths must increase strictly (" +
+                  std::to_string(wavelengths[i - 1]) + " then " + std::to_string(wavelengths[i]) +
+                  " nm at " + std::to_string(i) + ")");
+    info.band_channels.push_back(static_cast<int>(i));
+  }
+  if (!wavelengths.empty())
+    check_band_span(wavelengths.size(), wavelengths.front(), wavelengths.back(), where);
+  else
+    check_band_span(0, 0, 0, where);
+  info.wavelengths = wavelengths;
+  return info;
+}
+
 SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const std::string& file) {
   SpectralLayoutInfo info;
   std::vector<std::pair<double, int>> s0, t;
@@ -60,12 +94,7 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
       throw Error(where + "channels '" + std::string(spec.channel_name(bands[i - 1].second)) +
                   "' and '" + std::string(spec.channel_name(bands[i].second)) +
                   "' are the same wavelength");
-  if (bands.size() < 2) throw Error(where + "has a single spectral band; a spectrum needs two");
-  if (bands.back().first <= ReferenceTable::kStartNm ||
-      bands.front().first >= ReferenceTable::kStartNm + ReferenceTable::kSize - 1)
-    throw Error(where + "has no band inside 360-830 nm, where colour is defined (" +
-                std::to_string(bands.front().first) + " to " + std::to_string(bands.back().first) +
-                " nm)");
+  check_band_span(bands.size(), bands.front().first, bands.back().first, where);
   for (const auto& [nm, c] : bands) {
     info.wavelengths.push_back(nm);
     info.band_channels.push_back(c);

@@ -34,6 +34,12 @@ struct SpectralLayoutInfo {
 /// Cost: O(channels log channels).
 SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const std::string& file);
 
+/// The layout of spectra given as arrays: sample i (channel i) at wavelengths[i] nm. Refuses
+/// (Error starting with `where`) non-finite or not strictly increasing wavelengths, fewer than
+/// two, or none inside 360-830 nm. Cost: O(N).
+SpectralLayoutInfo spectral_layout_of_samples(const std::vector<double>& wavelengths, bool emissive,
+                                              const std::string& where);
+
 /// What RgbFromSpectral counted.
 struct RgbCounts {
   std::uint64_t invalid = 0;        // pixels with NaN or infinite samples (taken as 0)

@@ -108,15 +108,23 @@ void install_cleanup_handlers() {
   std::call_once(once, [] {
     g_umask = ::umask(0);
     ::umask(g_umask);
+    // Only signals still at their default action: a host's own handlers (Python's SIGINT,
+    // which raises KeyboardInterrupt and unwinds through the temporaries' destructors) stay.
+    auto at_default = [](int sig) {
+      struct sigaction old {};
+      return ::sigaction(sig, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) &&
+             old.sa_handler == SIG_DFL;
+    };
     struct sigaction sa {};
     sa.sa_handler = remove_temporaries_and_die;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESETHAND;
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP})
+      if (at_default(sig)) ::sigaction(sig, &sa, nullptr);
     // Writes past `ulimit -f` or into a closed pipe fail with EFBIG / EPIPE, reported as errors
     // that name the file, instead of killing the process half-way.
-    std::signal(SIGXFSZ, SIG_IGN);
-    std::signal(SIGPIPE, SIG_IGN);
+    for (int sig : {SIGXFSZ, SIGPIPE})
+      if (at_default(sig)) std::signal(sig, SIG_IGN);
   });
 }
 

@@ -19,7 +19,8 @@ namespace spectralize {
 
 /// Installs the handlers that remove this process's temporary files on SIGINT, SIGTERM and
 /// SIGHUP (then die of the signal, so shells report 128 + signal), and ignores SIGPIPE and
-/// SIGXFSZ so that failing writes are reported as errors. Idempotent. Cost: O(1).
+/// SIGXFSZ so that failing writes are reported as errors; each only where the signal is still
+/// at its default action (a host's handlers, e.g. Python's, are kept). Idempotent. Cost: O(1).
 void install_cleanup_handlers();
 
 /// True when `a` and `b` name the same existing file (any alias: links, "..", bind mounts).

@@ -67,7 +67,33 @@ SpectralExrLayout::SpectralExrLayout(const LayoutRequest& r) : preview_(r.previe
   tag_colour_space(spec_, r.spaces, preview_);
 }
 
+// Arrays of colours: the bands, nothing else, as floats.
+class BareSpectraLayout final : public SpectralImageLayout {
+ public:
+  explicit BareSpectraLayout(const SpectralizerSettings& sp) {
+    spec_ = OIIO::ImageSpec(1, 1, static_cast<int>(sp.grid.size()), OIIO::TypeFloat);
+    spec_.alpha_channel = -1;
+    const auto kind = sp.mode == Mode::emission ? SpectralChannel::Kind::emissive
+                                                : SpectralChannel::Kind::reflective;
+    for (std::size_t i = 0; i < sp.grid.size(); ++i)
+      spec_.channelnames[i] = spectral_channel_name(kind, sp.grid[i]);
+  }
+  const OIIO::ImageSpec& spec() const override { return spec_; }
+  int band_channel() const override { return 0; }
+  int preview_channel() const override { return -1; }
+  int alpha_channel() const override { return -1; }
+  const std::string& preview_colorspace() const override { return none_; }
+
+ private:
+  OIIO::ImageSpec spec_;
+  std::string none_;
+};
+
 }  // namespace
+
+std::unique_ptr<SpectralImageLayout> bare_spectra_layout(const SpectralizerSettings& settings) {
+  return std::make_unique<BareSpectraLayout>(settings);
+}
 
 std::unique_ptr<SpectralImageLayout> spectral_exr_layout(const LayoutRequest& request) {
   return std::make_unique<SpectralExrLayout>(request);

@@ -50,4 +50,8 @@ struct LayoutRequest {
 /// attributes, the input's descriptive metadata. Cost: O(channels + attributes).
 std::unique_ptr<SpectralImageLayout> spectral_exr_layout(const LayoutRequest& request);
 
+/// Bare spectra: the bands only, as floats, one "pixel" per colour (arrays of colours, e.g.
+/// the Python module's spectra()). Cost: O(bands).
+std::unique_ptr<SpectralImageLayout> bare_spectra_layout(const SpectralizerSettings& settings);
+
 }  // namespace spectralize

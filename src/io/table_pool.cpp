@@ -46,12 +46,16 @@ std::vector<std::string> TablePool::save() {
   std::vector<std::string> warnings;
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto& [key, e] : entries_) {
-    if (e->cache_file.empty() || !e->table->dirty()) continue;
+    const std::uint64_t computed = e->table->stats().nodes_computed;
+    if (e->cache_file.empty() || computed == e->saved_computed) continue;
     // Nodes another process saved meanwhile are adopted first (each is checked), so the file
     // grows by what both computed instead of keeping the last writer's only.
     (void)load_table_cache(*e->table, e->cache_file, e->file_key);
     const std::string why = save_table_cache(*e->table, e->cache_file, e->file_key);
-    if (!why.empty()) warnings.push_back("cache '" + e->cache_file + "' not saved: " + why);
+    if (!why.empty())
+      warnings.push_back("cache '" + e->cache_file + "' not saved: " + why);
+    else
+      e->saved_computed = computed;
   }
   return warnings;
 }

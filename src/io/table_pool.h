@@ -3,6 +3,7 @@
 // table per combination of the settings the spectra depend on, loaded once from the --cache
 // folder and saved once at the end, merged with what other processes saved meanwhile.
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -24,11 +25,13 @@ class TablePool {
     std::unique_ptr<Spectralizer> spectralizer;
     std::unique_ptr<SpectralTable> table;
     std::string key, file_key, cache_file, cache_status;
+    std::uint64_t saved_computed = 0;  // nodes_computed at the last save
   };
   Entry& get(const Settings& settings, const LogFn& log);
 
-  /// Saves every table that grew to its cache file (merged with the file's current nodes, so
-  /// concurrent batches on one folder add up). Returns the warnings. Cost: O(nodes).
+  /// Saves every table that grew since it was loaded or last saved to its cache file (merged
+  /// with the file's current nodes, so concurrent batches on one folder add up). Returns the
+  /// warnings. Cost: O(nodes) per table saved.
   std::vector<std::string> save();
 
  private:

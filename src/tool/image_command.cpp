@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/image_job.h"
-#include "io/input_interpretation.h"
+#include "io/job_settings.h"
 #include "io/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -19,25 +19,6 @@
 namespace spectralize::tool {
 
 namespace {
-
-// A name whose extension OpenImageIO writes.
-bool is_image_path(const std::string& path) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) (void)OIIO::geterror();
-  return out != nullptr;
-}
-
-// Formats that store only floats (Radiance HDR, PFM): no integer default.
-bool is_float_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".hdr" || ext == ".pfm";
-}
-
-bool ends_with_exr(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext.size() == 4 && (ext[1] | 32) == 'e' && (ext[2] | 32) == 'x' && (ext[3] | 32) == 'r';
-}
 
 // The report's destination, checked (and its temporary file created) before any work: never
 // the input or the output under any alias; /dev/stdout and /dev/null work as streams.
@@ -64,38 +45,26 @@ void write_report(AtomicOutput* report, const std::string& json) {
   report->commit();
 }
 
-// The config and colour space are command-line values: checked before any work.
-Settings checked_settings(const Options& opt) {
-  Settings s = opt.settings;
-  const ColourSpaces spaces = load_config(opt);
-  if (!s.colorspace.empty())
-    s.colorspace = flag_value("--colorspace", [&] { return spaces.resolve(s.colorspace); });
-  return s;
+// The command line's settings, checked before any work: a mistake is a usage error (exit 2).
+template <class Fn>
+Settings usage_checked(Fn&& fn) {
+  try {
+    return fn();
+  } catch (const Error& e) {
+    throw UsageError{e.what()};
+  }
 }
+
+const OptionNames kFlagNames{"--", "-o"};
 
 }  // namespace
 
 int run_to_rgb(const Options& opt) {
   if (opt.output.empty()) throw UsageError{"-o OUTPUT is required"};
-  if (!is_image_path(opt.output))
-    throw UsageError{
-        fmt::format("-o '{}': an image file OpenImageIO writes (.exr, .tif, .png, .jpg, .hdr, ...)",
-                    clip(opt.output))};
-  Settings s = checked_settings(opt);
-  const ColourSpaces spaces = load_config(opt);
-  if (!s.display.empty() && !s.colorspace.empty())
-    throw UsageError{"give --colorspace or --display, not both"};
-  if (!s.view.empty() && s.display.empty()) throw UsageError{"--view needs --display"};
-  if (!s.display.empty())
-    flag_value("--display", [&] { return spaces.display_from_xyz(s.display, s.view); });
-  // Files that store integers are display-referred: an encoded space and 8 bits by default.
-  const bool integer_file = !ends_with_exr(opt.output) && !is_float_path(opt.output);
-  if (integer_file && !opt.given.count("--format") && !opt.given.count("-d")) s.integer_bits = 8;
-  if (integer_file && s.integer_bits == 0)
-    throw UsageError{
-        fmt::format("-o '{}': --format uint8 or uint16 for this file type", clip(opt.output))};
-  if (s.colorspace.empty() && s.display.empty())
-    s.colorspace = default_colour_space(spaces, !integer_file).first;
+  const Settings s = usage_checked([&] {
+    return checked_to_rgb_settings(
+        opt.settings, opt.output, opt.given.count("--format") || opt.given.count("-d"), kFlagNames);
+  });
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);
   const ToRgbReport r =
@@ -117,14 +86,9 @@ int run_image(const Options& opt) {
                          ? "no input image given"
                          : fmt::format("one input image at a time, got {}", opt.inputs.size())};
   if (opt.output.empty()) throw UsageError{"-o OUTPUT.exr is required"};
-  if (!ends_with_exr(opt.output))
-    throw UsageError{
-        fmt::format("-o '{}': the output is a spectral OpenEXR file (.exr)", clip(opt.output))};
   const std::string& input = opt.inputs[0];
-  const Settings s = checked_settings(opt);
-  if (s.integer_bits != 0)
-    throw UsageError{"--format uint" + std::to_string(s.integer_bits) +
-                     ": a spectral OpenEXR stores half or float samples"};
+  const Settings s =
+      usage_checked([&] { return checked_image_settings(opt.settings, opt.output, kFlagNames); });
   auto report = open_report(opt, input);
   const LogFn log = console_log(opt.verbosity);
   const ImageReport r =

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/ingest.h"
+#include "io/job_settings.h"
 #include "io/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -78,12 +79,11 @@ int run_ingest_command(const Options& opt) {
   if (request.sources.empty() && request.inputs_from.empty())
     throw UsageError{"ingest: give the files, folders or patterns to ingest (or --inputs-from)"};
   // The config and colour space are command-line values: checked before any work.
-  const ColourSpaces spaces = load_config(opt);
-  if (!request.settings.colorspace.empty())
-    request.settings.colorspace =
-        flag_value("--colorspace", [&] { return spaces.resolve(request.settings.colorspace); });
-  if (request.settings.integer_bits != 0)
-    throw UsageError{"--format: a spectral OpenEXR stores half or float samples"};
+  try {
+    request.settings = checked_ingest_settings(request.settings, OptionNames{"--", "-o"});
+  } catch (const Error& e) {
+    throw UsageError{e.what()};
+  }
   std::tie(request.shard, request.shards) =
       opt.shard.empty() ? slurm_shard() : parse_shard(opt.shard, "--shard");
   IngestPlan plan;

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Runs the shell examples of README.md and checks their shown output.
 
-Two kinds of blocks are examples:
+Three kinds of blocks are examples:
   ```sh blocks        every command must succeed (run as one bash script, `set -e`);
+  ```python blocks    must run (with the build's module on PYTHONPATH, matplotlib's Agg
+                      backend); a ```text block right after one is its output and must match;
   ``` blocks of "$ "  each "$ command" is run; the lines after it, up to the next "$ ", are its
                       output (stdout and stderr together) and must match.
 
@@ -26,13 +28,15 @@ TIMING = re.compile(r"\b\d+(\.\d+)? s\b")
 
 
 def blocks(text):
-    """(kind, lines) for every fenced block: kind is 'sh', 'dollar' or None."""
+    """(kind, lines) for the example blocks: 'sh', 'python', 'text' or 'dollar'."""
     out, lines, kind, inside = [], [], None, False
     for line in text.split("\n"):
         if line.startswith("```"):
             if inside:
-                if kind == "sh" or any(l.startswith("$ ") for l in lines):
-                    out.append(("sh" if kind == "sh" else "dollar", lines))
+                if kind in ("sh", "python", "text"):
+                    out.append((kind, lines))
+                elif any(l.startswith("$ ") for l in lines):
+                    out.append(("dollar", lines))
                 lines, inside = [], False
             else:
                 inside, kind = True, line[3:].strip()
@@ -113,7 +117,23 @@ def main():
         os.symlink(os.path.abspath(build), os.path.join(work, "build"))
         for name in ("testimages", "ocio_configs", "tests"):
             os.symlink(os.path.join(os.path.abspath(source), name), os.path.join(work, name))
-        for kind, lines in blocks(text):
+        env_py = dict(env, PYTHONPATH=os.path.join(work, "build", "python"), MPLBACKEND="Agg")
+        found = blocks(text)
+        for index, (kind, lines) in enumerate(found):
+            if kind == "text":
+                continue
+            if kind == "python":
+                p = subprocess.run([sys.executable, "-c", "\n".join(lines)], cwd=work, env=env_py,
+                                   capture_output=True, text=True, timeout=600)
+                checked += 1
+                if p.returncode != 0:
+                    failures.append(f"python block failed ({p.returncode}):\n{p.stderr[-3000:]}")
+                elif index + 1 < len(found) and found[index + 1][0] == "text":
+                    shown = [l for l in found[index + 1][1] if l.strip()]
+                    why = lines_match(shown, [l for l in p.stdout.split("\n") if l.strip()])
+                    if why:
+                        failures.append(f"python block: {why}\n--- output:\n{p.stdout}")
+                continue
             if kind == "sh":
                 if any(l.strip().startswith("make ") for l in lines):
                     continue

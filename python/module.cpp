@@ -1,0 +1,396 @@
+// The spectralize Python module (docs/DESIGN.md §13): NumPy arrays of colours to exact spectra
+// and back, and the file jobs of the CLI, with every option of the CLI by its recipe key.
+// The work runs without the GIL on OIIO's thread pool; tables are shared by every call of the
+// process (and with the persistent cache of `cache=`).
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/spectrum_model.h"
+#include "io/colour_array.h"
+#include "io/image_job.h"
+#include "io/image_report.h"
+#include "io/ingest.h"
+#include "io/job_settings.h"
+#include "io/table_pool.h"
+#include "py_arrays.h"
+#include "py_options.h"
+
+namespace py = pybind11;
+
+namespace spectralize::python {
+
+namespace {
+
+const OptionNames kKeywordNames{"", "output"};
+
+// The scopes of the functions' keyword options (one schema: io/settings.h).
+const OptionScope kSpectraScope{
+    "spectra", kColor, {"print_format"}, {"method", "cache", "threads"}};
+const OptionScope kToRgbScope{"to_rgb", kToRgb, {"format", "compression", "tile"}, {"mode"}};
+const OptionScope kConvertScope{"convert", kImage, {}, {}};
+const OptionScope kConvertRgbScope{"convert", kToRgb, {}, {}};
+const OptionScope kIngestScope{"ingest", kIngest, {}, {}};
+
+// Process-wide state: the node tables (shared by every call, saved to `cache=` folders) and the
+// colour setups by their settings. Never destroyed: Python may unload modules in any order.
+struct State {
+  std::mutex mutex;
+  TablePool pool;
+  std::map<std::string, std::unique_ptr<ColourArrays>> arrays;
+};
+State& state() {
+  static State* s = new State;
+  return *s;
+}
+
+py::object g_warning;  // spectralize.SpectralizeWarning
+
+void warn(const std::string& message) {
+  if (PyErr_WarnEx(g_warning.ptr(), message.c_str(), 2) != 0) throw py::error_already_set();
+}
+
+// Messages of a job, kept while the GIL is released and given to Python afterwards.
+struct Messages {
+  std::mutex mutex;
+  std::vector<std::string> warnings;
+  LogFn log() {
+    return [this](int level, const std::string& m) {
+      if (level != 0) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      warnings.push_back(m);
+    };
+  }
+  void emit() {
+    for (const std::string& w : warnings) warn(w);
+  }
+};
+
+// Raises OSError with a message of the io layer (a file that cannot be read or written).
+[[noreturn]] void os_error(const std::string& message) {
+  PyErr_SetString(PyExc_OSError, message.c_str());
+  throw py::error_already_set();
+}
+
+std::string path_text(const py::handle& v, const char* function, const char* name) {
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::hasattr(v, "__fspath__")) {
+    py::object p = py::module_::import("os").attr("fspath")(v);
+    if (py::isinstance<py::str>(p)) return p.cast<std::string>();
+  }
+  throw py::type_error(std::string(function) + "(): " + name + ": expected a path (str or " +
+                       "os.PathLike), got " +
+                       py::str(py::type::of(v).attr("__name__")).cast<std::string>());
+}
+
+// The colour setup for these settings, made once per distinct settings (config, colour space
+// and table); ValueError for an unknown or data colour space or a bad config.
+ColourArrays& colour_arrays(const Settings& s, Messages& messages) {
+  std::string key = s.config + "\n" + std::to_string(s.threads);
+  for (const auto& [k, v] : describe_settings(s, kImage)) key += "\n" + k + "=" + v;
+  key += "\nmode=" + std::string(to_string(s.mode));
+  State& st = state();
+  std::lock_guard<std::mutex> lock(st.mutex);
+  auto it = st.arrays.find(key);
+  if (it != st.arrays.end()) return *it->second;
+  try {
+    auto arrays = std::make_unique<ColourArrays>(checked_ingest_settings(s, kKeywordNames), st.pool,
+                                                 messages.log());
+    return *(st.arrays[key] = std::move(arrays));
+  } catch (const Error& e) {
+    value_error(kSpectraScope, e.what());
+  }
+}
+
+// The output array: `given` when it fits (float32, C-ordered, writeable, the right shape),
+// else a new one.
+py::array_t<float> output_array(const py::object& given, const std::vector<py::ssize_t>& shape,
+                                std::size_t bands) {
+  if (given.is_none()) return new_float_array(shape, bands);
+  std::vector<py::ssize_t> want = shape;
+  want.back() = static_cast<py::ssize_t>(bands);
+  if (!py::isinstance<py::array_t<float>>(given))
+    throw py::type_error("spectra(): out: expected a float32 numpy.ndarray");
+  auto out = py::reinterpret_borrow<py::array_t<float>>(given);
+  if (!(out.flags() & py::array::c_style) || !out.writeable())
+    throw py::value_error("spectra(): out: must be C-contiguous and writeable");
+  if (std::vector<py::ssize_t>(out.shape(), out.shape() + out.ndim()) != want)
+    throw py::value_error("spectra(): out: shape " +
+                          py::str(given.attr("shape")).cast<std::string>() + ", expected " +
+                          py::str(py::tuple(py::cast(want))).cast<std::string>());
+  return out;
+}
+
+// spectralize.spectra(rgb, out=None, **options)
+py::tuple spectra(const py::object& rgb, const py::object& out_given, const py::kwargs& options) {
+  const Settings settings = read_options(options, kSpectraScope);
+  const FloatArray in = read_float_array(rgb, "spectra(): rgb", 3);
+  Messages messages;
+  ColourArrays& arrays = colour_arrays(settings, messages);
+  const std::size_t bands = arrays.bands();
+  py::array_t<float> out = output_array(out_given, in.shape, bands);
+  float* o = out.mutable_data();
+  PixelCounts counts;
+  std::vector<std::string> save_warnings;
+  {
+    py::gil_scoped_release release;
+    counts = arrays.spectra(in.data, in.rows, o);
+    save_warnings = state().pool.save();  // only tables that grew, only with cache=
+  }
+  const WavelengthGrid& grid = arrays.settings().spectral.grid;
+  py::array_t<double> wavelengths(static_cast<py::ssize_t>(grid.size()));
+  for (std::size_t i = 0; i < grid.size(); ++i) wavelengths.mutable_at(i) = grid[i];
+  messages.emit();
+  for (const std::string& w : count_warnings(counts, "spectra(): rgb", "colours", kKeywordNames))
+    warn(w);
+  for (const std::string& w : save_warnings) warn(w);
+  return py::make_tuple(wavelengths, out);
+}
+
+// spectralize.to_rgb(values, wavelengths, **options)
+py::array_t<float> to_rgb(const py::object& values, const py::object& wavelengths,
+                          const py::kwargs& options) {
+  Settings settings = read_options(options, kToRgbScope);
+  if (!settings.display.empty() && !settings.colorspace.empty())
+    value_error(kToRgbScope, "give colorspace or display, not both");
+  if (!settings.view.empty() && settings.display.empty())
+    value_error(kToRgbScope, "view needs display");
+  const FloatArray w = read_float_array(wavelengths, "to_rgb(): wavelengths", 0);
+  if (w.shape.size() != 1)
+    throw py::value_error("to_rgb(): wavelengths: expected a 1-D array, got " +
+                          std::to_string(w.shape.size()) + " axes");
+  const FloatArray in = read_float_array(values, "to_rgb(): values", w.last);
+  const std::vector<double> nm(w.data, w.data + w.last);
+  const bool emissive = settings.mode != ModeChoice::reflectance;
+  py::array_t<float> out = new_float_array(in.shape, 3);
+  float* o = out.mutable_data();
+  std::string failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      rgb_of_spectra(in.data, in.rows, nm, emissive, settings, o, "wavelengths: ");
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  if (!failure.empty()) value_error(kToRgbScope, failure);
+  return out;
+}
+
+// Checks for Ctrl-C between strips: KeyboardInterrupt unwinds the job, whose temporary file
+// is removed.
+ProgressFn interruptible() {
+  return [](std::uint64_t, std::uint64_t) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  };
+}
+
+py::object json_object(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text);
+}
+
+// spectralize.convert(input, output, to="spectral", **options)
+py::object convert(const py::object& input, const py::object& output, const std::string& to,
+                   const py::kwargs& options) {
+  if (to != "spectral" && to != "rgb")
+    throw py::value_error("convert(): to " + quote(to) + " (valid: spectral, rgb)");
+  const bool rgb = to == "rgb";
+  const OptionScope& scope = rgb ? kConvertRgbScope : kConvertScope;
+  const std::string in = path_text(input, "convert", "input");
+  const std::string out = path_text(output, "convert", "output");
+  std::vector<std::string> given;
+  Settings settings = read_options(options, scope, &given);
+  try {
+    const bool format_given = std::find(given.begin(), given.end(), "format") != given.end();
+    settings = rgb ? checked_to_rgb_settings(settings, out, format_given, kKeywordNames)
+                   : checked_image_settings(settings, out, kKeywordNames);
+  } catch (const Error& e) {
+    value_error(scope, e.what());
+  }
+  Messages messages;
+  std::string report, failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      report = rgb ? report_json(run_to_rgb_job(in, out, settings, interruptible(), messages.log()))
+                   : report_json(run_image_job(in, out, settings, interruptible(), messages.log()));
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  messages.emit();
+  if (!failure.empty()) os_error(failure);
+  return json_object(report);
+}
+
+// spectralize.ingest(sources, output, ...)
+py::dict ingest(const py::object& sources, const py::object& output, const py::object& inputs_from,
+                const py::object& manifest, bool force, const std::string& shard,
+                const py::kwargs& options) {
+  IngestRequest request;
+  if (py::isinstance<py::str>(sources) || py::hasattr(sources, "__fspath__"))
+    request.sources.push_back(path_text(sources, "ingest", "sources"));
+  else
+    for (const py::handle& s : sources)
+      request.sources.push_back(path_text(s, "ingest", "sources"));
+  request.destination = path_text(output, "ingest", "output");
+  if (!inputs_from.is_none()) request.inputs_from = path_text(inputs_from, "ingest", "inputs_from");
+  if (!manifest.is_none()) request.manifest = path_text(manifest, "ingest", "manifest");
+  request.force = force;
+  if (request.sources.empty() && request.inputs_from.empty())
+    value_error(kIngestScope, "give the files, folders or patterns to ingest (or inputs_from)");
+  if (!shard.empty()) {
+    const auto slash = shard.find('/');
+    try {
+      request.shard = std::stoi(shard.substr(0, slash));
+      request.shards = std::stoi(shard.substr(slash + 1));
+    } catch (const std::exception&) {
+      request.shards = 0;
+    }
+    if (slash == std::string::npos || request.shards < 1 || request.shard < 0 ||
+        request.shard >= request.shards)
+      value_error(kIngestScope, "shard " + quote(shard) + ": expected I/N with 0 <= I < N");
+  }
+  try {
+    request.settings = checked_ingest_settings(read_options(options, kIngestScope), kKeywordNames);
+  } catch (const Error& e) {
+    value_error(kIngestScope, e.what());
+  }
+  Messages messages;
+  IngestSummary summary;
+  std::string failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      summary = run_ingest(plan_ingest(request), nullptr, messages.log());
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  messages.emit();
+  if (!failure.empty()) os_error(failure);
+  py::dict d = json_object(ingest_summary_json(summary));
+  // The failed files' records, from the manifest just written (stdout manifests are not read).
+  py::list failures;
+  if (summary.failed > 0) {
+    py::object loads = py::module_::import("json").attr("loads");
+    py::object file = py::module_::import("builtins").attr("open")(summary.manifest, "r");
+    for (const py::handle& line : file) {
+      py::object record = loads(line);
+      if (record.contains("status") && py::str(record["status"]).cast<std::string>() == "failed")
+        failures.append(record);
+    }
+    file.attr("close")();
+    warn("ingest(): " + std::to_string(summary.failed) + " of " + std::to_string(summary.files()) +
+         " files failed (see 'failures' and the manifest '" + summary.manifest + "')");
+  }
+  d["failures"] = failures;
+  return d;
+}
+
+py::list models() {
+  py::list list;
+  for (const ModelInfo& m : spectrum_models()) {
+    py::dict d;
+    d["name"] = std::string(m.name);
+    d["summary"] = std::string(m.summary);
+    d["default"] = m.name == default_model_name();
+    list.append(d);
+  }
+  return list;
+}
+
+const char* const kModuleDoc = R"(Exact RGB-to-spectrum conversion for spectral rendering.
+
+Every spectrum reproduces its colour exactly (relative CIE XYZ error below 1e-5 in float),
+is non-negative, and a reflectance stays within 0..1. Colours are converted from any colour
+space of an OpenColorIO config (the shipped one, $OCIO, or config=...) through the same
+node table and persistent cache (cache=FOLDER) as the spectralize command-line tool.
+
+Functions:
+    spectra(rgb, **options)                  RGB array (..., 3) -> (wavelengths, spectra)
+    to_rgb(values, wavelengths, **options)   spectra (..., N) -> RGB array (..., 3)
+    convert(input, output, to="spectral", **options)
+                                             an image file to a spectral OpenEXR, or back
+    ingest(sources, output, **options)       a texture library to spectral OpenEXR files
+    models()                                 the spectrum models
+
+Options are the command-line tool's, named by their recipe keys (--emission-basis is
+emission_basis=...), with the same validation. Bad options raise ValueError (TypeError for a
+value of the wrong type), unreadable or unwritable files OSError; mapped out-of-gamut colours
+and other notes are issued as SpectralizeWarning.
+)";
+
+}  // namespace
+
+}  // namespace spectralize::python
+
+PYBIND11_MODULE(spectralize, m) {
+  using namespace spectralize::python;
+  m.doc() = kModuleDoc;
+  m.attr("__version__") = SPECTRALIZE_VERSION;
+  g_warning = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "spectralize.SpectralizeWarning",
+      "Out-of-gamut colours that were mapped, caches that were rebuilt, and other notes.",
+      PyExc_UserWarning, nullptr));
+  m.attr("SpectralizeWarning") = g_warning;
+
+  m.def("spectra", &spectra, py::arg("rgb"), py::kw_only(), py::arg("out") = py::none(),
+        ("spectra(rgb, *, out=None, **options) -> (wavelengths, values)\n\n"
+         "The exact spectra of an array of RGB colours of any shape (..., 3), float.\n"
+         "Returns wavelengths (N,) in nm (float64) and values (..., N) (float32): emission\n"
+         "(mode='emission', the default: colours are light) or reflectance (mode=\n"
+         "'reflectance': 0 <= values <= 1). Out-of-gamut colours are mapped and counted in a\n"
+         "SpectralizeWarning; NaN or infinite colours raise ValueError. Runs without the GIL\n"
+         "on all cores (threads=...). out: a float32 C-ordered array of the result's shape to\n"
+         "fill and return instead of a new one (saves the allocation in loops).\n"
+         "Cost: O(colours x N), plus node solves on first use.\n\n"
+         "Options:\n" +
+         options_doc(kSpectraScope))
+            .c_str());
+  m.def("to_rgb", &to_rgb, py::arg("values"), py::arg("wavelengths"),
+        ("to_rgb(values, wavelengths, **options) -> rgb\n\n"
+         "Integrates spectra (..., N) sampled at wavelengths (N,) nm (strictly increasing,\n"
+         "any spacing) to RGB (..., 3) float32 by the reference integration: emission with the\n"
+         "observer; reflectance (mode='reflectance') under the illuminant, white balanced\n"
+         "(reflected='as-lit': the reflected light itself). Cost: O(spectra x N).\n\n"
+         "Options:\n" +
+         options_doc(kToRgbScope))
+            .c_str());
+  m.def("convert", &convert, py::arg("input"), py::arg("output"), py::kw_only(),
+        py::arg("to") = "spectral",
+        ("convert(input, output, *, to='spectral', **options) -> report (dict)\n\n"
+         "to='spectral': an RGB image (anything OpenImageIO reads) to a spectral OpenEXR;\n"
+         "to='rgb': a spectral OpenEXR (any writer's) back to RGB. Streams in bounded memory;\n"
+         "the output appears only when complete; the input is never overwritten. Returns the\n"
+         "report the CLI writes with --report. Ctrl-C stops it (KeyboardInterrupt) leaving\n"
+         "nothing behind. Cost: O(pixels x N).\n\n"
+         "Options (to='spectral'):\n" +
+         options_doc(kConvertScope) + "\nOptions (to='rgb'):\n" + options_doc(kConvertRgbScope))
+            .c_str());
+  m.def("ingest", &ingest, py::arg("sources"), py::arg("output"), py::kw_only(),
+        py::arg("inputs_from") = py::none(), py::arg("manifest") = py::none(),
+        py::arg("force") = false, py::arg("shard") = "",
+        ("ingest(sources, output, *, inputs_from=None, manifest=None, force=False, shard='', "
+         "**options) -> summary (dict)\n\n"
+         "A texture library (files, folders, glob patterns; or a list file inputs_from) to\n"
+         "spectral OpenEXR files under the folder output, as `spectralize ingest` does: a\n"
+         "decision per file, up-to-date outputs skipped, a JSON Lines manifest. Returns the\n"
+         "counts and the failed files' records ('failures'); a file that fails does not stop\n"
+         "the others and does not raise (a SpectralizeWarning counts them). Cost: the\n"
+         "conversions.\n\n"
+         "Options:\n" +
+         options_doc(kIngestScope))
+            .c_str());
+  m.def("models", &models,
+        "models() -> list of dicts (name, summary, default): the spectrum models for model=.");
+}

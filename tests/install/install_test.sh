@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# cmake --install into a temporary prefix, then use only what was installed: the tool, the
+# OIIO plugin with stock oiiotool, the Python module, and the CMake package from a separate
+# project. The prefix is moved after installing (nothing may depend on where it was put), no
+# installed file may name the build or source tree, and where a private mount namespace is
+# available (root, or user namespaces) both trees are hidden under empty tmpfs mounts while the
+# installed files run.
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build="$(realpath "$1")"
+source="$(realpath "$2")"
+work="$(mktemp -d /tmp/spectralize-install.XXXXXX)"
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAILED: $*" >&2; exit 1; }
+
+cmake --install "$build" --prefix "$work/staged" >"$work/install.log"
+mv "$work/staged" "$work/prefix"
+prefix="$work/prefix"
+py_version="$(/usr/bin/python3 -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
+
+# The documented layout (README "Install").
+for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
+         share/spectralize/ocio/spectralize.ocio share/spectralize/data/cie1931_2deg_cmf_1nm.csv \
+         share/spectralize/farm/spectralize-ingest.sbatch include/spectralize/version.h \
+         include/spectralize/core/spectralizer.h lib/libspectralize_core.a \
+         lib/cmake/spectralize/spectralizeConfig.cmake \
+         lib/cmake/spectralize/spectralizeConfigVersion.cmake \
+         share/doc/spectralize/spectralize-help.txt \
+         "lib/python$py_version/dist-packages/spectralize.cpython-${py_version/./}-x86_64-linux-gnu.so"; do
+  [ -f "$prefix/$f" ] || fail "not installed: $f"
+done
+grep -q -- "--wavelengths" "$prefix/share/doc/spectralize/spectralize-help.txt" ||
+  fail "the installed help text does not list the flags"
+if hits="$(grep -rl --binary-files=text -e "$build" -e "$source" "$prefix")"; then
+  fail "installed files name the build or source tree: $hits"
+fi
+
+# What the checks need, copied out of the trees before they are hidden.
+cp "$source/testimages/hdri_forest_256x128.exr" "$work/in.exr"
+cp -r "$source/tests/install/consumer" "$work/consumer"
+printf '{"source": "in.exr", "wavelengths": "400:700:10"}\n' >"$work/r.spectral"
+
+cat >"$work/checks.sh" <<CHECKS
+set -euo pipefail
+cd "$work"
+for d in "$source" "$build"; do
+  if [ -n "\${HIDDEN:-}" ] && [ -e "\$d" ] && [ -n "\$(ls -A "\$d")" ]; then
+    echo "FAILED: \$d is not hidden"; exit 1
+  fi
+done
+unset OCIO OIIO_LIBRARY_PATH PYTHONPATH
+PATH="$prefix/bin:/usr/bin:/bin"
+spectralize --version
+spectralize in.exr -o out.exr -q
+oiiotool --info -v out.exr | grep -q "channel list: R, G, B, S0.380,000000nm" ||
+  { echo "FAILED: the installed tool's output"; exit 1; }
+spectralize --color 0.2,0.5,0.1 --format json | /usr/bin/python3 -c \
+  'import json, sys; e = json.load(sys.stdin)["relative_error"]; assert e <= 1e-12, e; print("color ok", e)'
+OIIO_LIBRARY_PATH="$prefix/lib/spectralize/plugins" oiiotool r.spectral -o plugin.exr
+oiiotool --info plugin.exr | grep -q "256 x  128, 34 channel" ||
+  { echo "FAILED: the plugin's image (R, G, B + 31 bands)"; oiiotool --info plugin.exr; exit 1; }
+PYTHONPATH="$prefix/lib/python$py_version/dist-packages" /usr/bin/python3 -c '
+import spectralize
+assert spectralize.__file__.startswith("$prefix/"), spectralize.__file__
+wl, v = spectralize.spectra([0.2, 0.5, 0.1], mode="reflectance")
+assert wl.size == 81 and 0 <= v.min() and v.max() <= 1
+print("python ok", spectralize.__version__, spectralize.__file__)'
+cmake -S consumer -B consumer-build -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build consumer-build >/dev/null
+consumer-build/consumer "$prefix/share/spectralize/data/cie1931_2deg_cmf_1nm.csv"
+echo "all installed checks passed"
+CHECKS
+
+# Hide the trees where a private mount namespace can be had; else run as is (said so).
+hide=""
+for d in "$build" "$source"; do hide+="mount -t tmpfs none '$d'; "; done
+if unshare -m --propagation private true 2>/dev/null; then
+  unshare -m --propagation private bash -c "$hide HIDDEN=1 bash '$work/checks.sh'"
+  echo "(build and source trees hidden under tmpfs while the installed files ran)"
+else
+  echo "NOTE: no private mount namespace here: the trees stayed visible (the relocation and the"
+  echo "      no-build-path checks above still apply)"
+  bash "$work/checks.sh"
+fi
