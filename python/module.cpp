@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ const OptionScope kIngestScope{"ingest", kIngest, {}, {}};
 // colour setups by their settings. Never destroyed: Python may unload modules in any order.
 struct State {
   std::mutex mutex;
+  // Lookups share the tables; saving them to a cache file (which adopts the file's nodes)
+  // must not run during lookups (SpectralTable::adopt_node).
+  std::shared_mutex tables;
   TablePool pool;
   std::map<std::string, std::unique_ptr<ColourArrays>> arrays;
 };
@@ -142,8 +146,14 @@ py::tuple spectra(const py::object& rgb, const py::object& out_given, const py::
   std::vector<std::string> save_warnings;
   {
     py::gil_scoped_release release;
-    counts = arrays.spectra(in.data, in.rows, o);
-    save_warnings = state().pool.save();  // only tables that grew, only with cache=
+    {
+      std::shared_lock<std::shared_mutex> lookups(state().tables);
+      counts = arrays.spectra(in.data, in.rows, o);
+    }
+    if (!arrays.settings().cache_dir.empty()) {
+      std::unique_lock<std::shared_mutex> saving(state().tables);
+      save_warnings = state().pool.save();  // only the tables that grew
+    }
   }
   const WavelengthGrid& grid = arrays.settings().spectral.grid;
   py::array_t<double> wavelengths(static_cast<py::ssize_t>(grid.size()));

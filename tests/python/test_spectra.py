@@ -187,3 +187,23 @@ def test_out_fills_the_given_array(sp):
         sp.spectra(rgb, out=np.empty((10, 81)))
     with pytest.raises(ValueError, match=r"out: must be C-contiguous"):
         sp.spectra(rgb, out=np.empty((81, 10), dtype=np.float32).T)
+
+
+def test_concurrent_calls_with_a_cache_agree_with_serial_ones(sp, tmp_path):
+    """Python threads calling spectra() at once (the GIL released), one saving the cache while
+    others look up: the same spectra as one call at a time."""
+    batches = [RNG.uniform(0, 1, size=(20_000, 3)) for _ in range(6)]
+    serial = [sp.spectra(b, mode="reflectance", wavelengths="400:700:10")[1] for b in batches]
+    results = [None] * len(batches)
+
+    def work(i):
+        results[i] = sp.spectra(batches[i], mode="reflectance", wavelengths="400:700:10",
+                                cache=str(tmp_path / "c"))[1]
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(len(batches))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(results, serial):
+        assert np.abs(a - b).max() <= 1e-6
