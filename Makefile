@@ -82,6 +82,7 @@ docs-figures: figures
 
 bench: deps build
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
+	@$(BUILD_DIR)/tests/bench/model_study 10000
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5

@@ -23,20 +23,15 @@ for f in testimages/*.exr testimages/*.hdr testimages/*.png; do
 done
 echo "(max err: relative XYZ error of the written HALF samples; use --format float for ~1e-7)"
 echo
-echo "The paper's examples (spectralize --color ...):"
-for args in "6000,5000,1000" "0.21,0.72,0.15 --mode reflectance"; do
-  # shellcheck disable=SC2086
-  "$bin" --color $args --format json >"$out/color.json"
-  printf '  --color %-36s status=%s L=%s K=%s relative error=%s\n' "$args" \
-    "$(field status "$out/color.json")" "$(field admissible "$out/color.json")" \
-    "$(field dropped "$out/color.json")" "$(field relative_error "$out/color.json")"
+echo "The paper's examples by each model (spectralize --color ... --model M):"
+for model in natural smooth paper; do
+  for args in "6000,5000,1000" "0.21,0.72,0.15 --mode reflectance"; do
+    # shellcheck disable=SC2086
+    "$bin" --color $args --model "$model" --format json >"$out/color.json"
+    printf '  --color %-34s --model %-8s status=%s relative error=%s\n' "$args" "$model" \
+      "$(field status "$out/color.json")" "$(field relative_error "$out/color.json")"
+  done
+  "$bin" --color 0.21,0.72,0.15 --mode reflectance --model "$model" -o "$out/surface_$model.png" -q
 done
-echo
-echo "The same surface with the smooth model, and both plotted (spectralize --color ... -o PLOT):"
-"$bin" --color 0.21,0.72,0.15 --mode reflectance --model smooth --format json >"$out/color.json"
-printf '  --color %-36s status=%s relative error=%s\n' "0.21,0.72,0.15 --model smooth" \
-  "$(field status "$out/color.json")" "$(field relative_error "$out/color.json")"
-"$bin" --color 0.21,0.72,0.15 --mode reflectance -o "$out/surface_paper.png" -q
-"$bin" --color 0.21,0.72,0.15 --mode reflectance --model smooth -o "$out/surface_smooth.png" -q
-echo "  plots: $out/surface_paper.png, $out/surface_smooth.png"
-echo "More: make figures (the paper's figures), make validate (ColorChecker metamerism table)."
+echo "  plots of the surface: $out/surface_natural.png, surface_smooth.png, surface_paper.png"
+echo "More: make figures (the paper's figures), make validate (metamerism on measured reflectances)."

@@ -124,16 +124,23 @@ void plot_spectrum(const Stage& s, const std::string& file, const std::string& t
                          paper.values,
                          plot_palette(0),
                          {swatch(s.spaces, input, k)}});
-  try {
-    SpectralizerSettings smooth = settings;
-    smooth.model = "smooth";
-    const SpectrumResult r = Spectralizer(smooth).spectralize(input);
-    if (r.status == Status::ok)
-      plot.curves.push_back(
-          {"smooth model", nm, r.values, plot_palette(1), {swatch(s.spaces, input, k)}});
-  } catch (const Error& e) {
-    fmt::print(s.out, "{}: smooth model unavailable ({}); plotted the paper model only\n", file,
-               e.what());
+  // The models beyond the paper on the same colour, for comparison.
+  int colour = 1;
+  for (const char* model : {"smooth", "natural"}) {
+    try {
+      SpectralizerSettings other = settings;
+      other.model = model;
+      const SpectrumResult r = Spectralizer(other).spectralize(input);
+      if (r.status == Status::ok)
+        plot.curves.push_back({std::string(model) + " model",
+                               nm,
+                               r.values,
+                               plot_palette(colour),
+                               {swatch(s.spaces, input, k)}});
+    } catch (const Error& e) {
+      fmt::print(s.out, "{}: {} model unavailable ({}); not plotted\n", file, model, e.what());
+    }
+    ++colour;
   }
   if (light) plot.notes.push_back("swatch scaled to display white");
   write_plot(plot, path_in(s, file));
@@ -155,12 +162,14 @@ std::vector<SphereFigure> make_figures(const std::string& outdir, std::ostream& 
           outdir,
           out};
 
-  // The paper's two spectra, with the default settings.
+  // The paper's two spectra, by the paper's model (with its default edge filter).
   SpectralizerSettings light_settings;
+  light_settings.model = "paper";
   light_settings.mode = Mode::emission;
   const Spectralizer light_sp(light_settings);
   const SpectrumResult light = light_sp.spectralize(mul(m, kPaperLight));
   SpectralizerSettings surface_settings;
+  surface_settings.model = "paper";
   surface_settings.mode = Mode::reflectance;
   const Spectralizer surface_sp(surface_settings);
   const SpectrumResult surface = surface_sp.spectralize(mul(m, kPaperSurface));

@@ -1,6 +1,6 @@
 // spectralize_figures: the paper's figures and the ColorChecker validation.
 //   spectralize_figures figures OUTDIR    fig1..fig6 PNGs and difference maps (make figures)
-//   spectralize_figures validate OUTDIR   colorchecker.json and .md (make validate)
+//   spectralize_figures validate OUTDIR   validation.json and .md (make validate)
 // Exit status: 0 done, 1 the job failed (the message names the file), 2 a wrong command line.
 
 #include <fmt/core.h>
@@ -18,7 +18,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: spectralize_figures figures OUTDIR    the paper's figures (PNG) and sphere ΔE\n"
     "       spectralize_figures validate OUTDIR   ColorChecker and illuminant validation\n"
-    "                                             (colorchecker.json, colorchecker.md)\n";
+    "                                             (validation.json, validation.md)\n";
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include "core/colorimetry.h"
 #include "core/error.h"
 #include "core/sample_weights.h"
+#include "core/spectrum_model.h"
 #include "figures/colour_difference.h"
 
 namespace spectralize::figures {
@@ -15,6 +16,7 @@ namespace spectralize::figures {
 namespace {
 
 constexpr std::string_view kCheckerFile = "colorchecker_n_ohta_5nm.csv";
+constexpr std::string_view kAmpasFile = "ampas_rawtoaces_190_patches_5nm.csv";
 
 // The measured reflectances on the grid (linear interpolation of the stored samples).
 struct Patch {
@@ -22,13 +24,13 @@ struct Patch {
   std::vector<double> rho;
 };
 
-std::vector<Patch> load_patches(const WavelengthGrid& grid) {
+std::vector<Patch> load_patches(const PatchSet& set, const WavelengthGrid& grid) {
   std::vector<Patch> patches;
-  for (const std::string& name : embedded_columns(kCheckerFile)) {
-    const auto [nm, values] = embedded_column(kCheckerFile, name);
+  for (const std::string& name : embedded_columns(set.file)) {
+    const auto [nm, values] = embedded_column(set.file, name);
     if (nm.front() > grid.start() || nm.back() < grid.end())
-      throw Error("'" + std::string(kCheckerFile) + "' covers " + std::to_string(nm.front()) +
-                  ".." + std::to_string(nm.back()) + " nm, not the grid " + grid.to_string());
+      throw Error("'" + set.file + "' covers " + std::to_string(nm.front()) + ".." +
+                  std::to_string(nm.back()) + " nm, not the grid " + grid.to_string());
     Patch p{name, std::vector<double>(grid.size())};
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const double l = grid[i];
@@ -43,9 +45,9 @@ std::vector<Patch> load_patches(const WavelengthGrid& grid) {
     }
     patches.push_back(std::move(p));
   }
-  if (patches.size() != 24)
-    throw Error("'" + std::string(kCheckerFile) + "' has " + std::to_string(patches.size()) +
-                " patches, expected 24");
+  if (patches.size() != set.count)
+    throw Error("'" + set.file + "' has " + std::to_string(patches.size()) + " patches, expected " +
+                std::to_string(set.count));
   return patches;
 }
 
@@ -179,13 +181,15 @@ LightResult run_light(const Spectralizer& sp, const ColourTransform& to_xyz,
 // The RGB renderer's view of each patch under A and FL11: RGB (as run_patch makes it) times
 // the light's RGB, against the measurement. Both in the frame of the fixed D65 calibration
 // (rho == 1 under D65 is RGB 1, 1, 1); CIELAB is unchanged by that diagonal scaling.
-RgbBaseline rgb_baseline(const std::string& space, const ColourTransform& to_xyz,
-                         const ColourTransform& from_xyz, const std::vector<Patch>& patches,
-                         const Viewing& d65, const Viewing& a, const Viewing& f11) {
+RgbBaseline rgb_baseline(const std::string& space, const std::string& set,
+                         const ColourTransform& to_xyz, const ColourTransform& from_xyz,
+                         const std::vector<Patch>& patches, const Viewing& d65, const Viewing& a,
+                         const Viewing& f11) {
   const Xyz calibration{kWhiteD65.X / d65.white.X, kWhiteD65.Y / d65.white.Y,
                         kWhiteD65.Z / d65.white.Z};
   RgbBaseline b;
   b.space = space;
+  b.set = set;
   auto render = [&](const Patch& p, const Viewing& light) {
     const Xyz balanced = hadamard(d65.weights.integrate(p.rho), calibration);
     Xyz rgb = from_xyz(balanced.X, balanced.Y, balanced.Z);
@@ -234,15 +238,23 @@ ValidationSummary summarise(const std::vector<PatchResult>& patches) {
 }  // namespace
 
 std::vector<ValidationConfig> validation_configs() {
-  return {{"paper, filter " + default_edge_filter().to_string() + " (default)", "paper",
+  const std::string def(default_model_name());
+  auto tag = [&](const std::string& model) { return model == def ? " (default)" : ""; };
+  return {{"paper, filter " + default_edge_filter().to_string() + tag("paper"), "paper",
            default_edge_filter()},
           {"paper, filter 0.5", "paper", EdgeFilter::parse("0.5")},
           {"paper, filter 0.9", "paper", EdgeFilter::parse("0.9")},
-          {"smooth", "smooth", default_edge_filter()}};
+          {"smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()},
+          {"natural" + std::string(tag("natural")), "natural", default_edge_filter()}};
 }
 
 std::vector<std::string> validation_spaces() {
   return {"Linear Rec.709 (sRGB)", "Linear Rec.2020"};
+}
+
+std::vector<PatchSet> validation_sets() {
+  return {{"ColorChecker", std::string(kCheckerFile), 24},
+          {"AMPAS 190", std::string(kAmpasFile), 190}};
 }
 
 Spread spread(std::vector<double> v) {
@@ -283,15 +295,19 @@ double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x) {
 Validation validate(const ColourSpaces& spaces) {
   const SpectralizerSettings defaults;
   const Observer& obs = Observer::get(defaults.observer);
-  const std::vector<Patch> patches = load_patches(defaults.grid);
+  std::vector<std::vector<Patch>> sets;
+  for (const PatchSet& set : validation_sets()) sets.push_back(load_patches(set, defaults.grid));
+  const std::vector<Patch>& checker = sets.front();
   const Viewing d65 = viewing(defaults.grid, obs, Illuminant::get("D65"));
   const Viewing a = viewing(defaults.grid, obs, Illuminant::get("A"));
   const Viewing f11 = viewing(defaults.grid, obs, Illuminant::get("FL11"));
 
   Validation results;
   for (const std::string& space : validation_spaces())
-    results.baselines.push_back(
-        rgb_baseline(space, spaces.to_xyz(space), spaces.from_xyz(space), patches, d65, a, f11));
+    for (std::size_t k = 0; k < sets.size(); ++k)
+      results.baselines.push_back(rgb_baseline(space, validation_sets()[k].name,
+                                               spaces.to_xyz(space), spaces.from_xyz(space),
+                                               sets[k], d65, a, f11));
   for (const ValidationConfig& config : validation_configs())
     for (const std::string& space : validation_spaces()) {
       ConfigResult c;
@@ -306,17 +322,22 @@ Validation validate(const ColourSpaces& spaces) {
         settings.filter = config.filter;
         settings.mode = Mode::reflectance;
         const Spectralizer surfaces(settings);
-        for (const Patch& p : patches)
-          c.patches.push_back(run_patch(surfaces, to_xyz, from_xyz, p, d65, a, f11));
+        for (std::size_t k = 0; k < sets.size(); ++k) {
+          PatchSetResult r;
+          r.set = validation_sets()[k];
+          for (const Patch& p : sets[k])
+            r.patches.push_back(run_patch(surfaces, to_xyz, from_xyz, p, d65, a, f11));
+          r.summary = summarise(r.patches);
+          c.sets.push_back(std::move(r));
+        }
         settings.mode = Mode::emission;
         const Spectralizer lights(settings);
         for (const char* light : {"A", "D50", "FL2"})
-          c.lights.push_back(run_light(lights, to_xyz, from_xyz, light, patches));
-        c.summary = summarise(c.patches);
+          c.lights.push_back(run_light(lights, to_xyz, from_xyz, light, checker));
       } catch (const Error& e) {
         c.available = false;
         c.error = e.what();
-        c.patches.clear();
+        c.sets.clear();
         c.lights.clear();
       }
       c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

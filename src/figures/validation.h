@@ -1,9 +1,10 @@
 #pragma once
 // `spectralize_figures validate OUTDIR`: how the reconstructed spectra compare with measured
-// ones. The 24 ColorChecker reflectances (Ohta) are turned into colours under D65 in a working
-// space, spectralized as reflectances and compared with the measurement under D65 (the round
-// trip), A and FL11 (metamerism), spectrally (RMSE) and in roughness; CIE illuminants A, D50
-// and FL2 given as RGB are spectralized as lights and compared with their real SPDs. Each
+// ones. Each set of measured reflectances (the 24 ColorChecker patches of Ohta, the 190 AMPAS
+// rawtoaces training patches) is turned into colours under D65 in a working space,
+// spectralized as reflectances and compared with the measurement under D65 (the round trip),
+// A and FL11 (metamerism), spectrally (RMSE) and in roughness; CIE illuminants A, D50 and FL2
+// given as RGB are spectralized as lights and compared with their real SPDs. Each
 // configuration (model, edge filter) is one entry of validation_configs().
 
 #include <array>
@@ -25,11 +26,21 @@ struct ValidationConfig {
 };
 
 /// The configurations validated: the paper model with the default filter and two fixed ones,
-/// and the smooth model. Cost: O(1).
+/// the smooth and the natural model; the default model's row says "(default)". Cost: O(1).
 std::vector<ValidationConfig> validation_configs();
 
 /// The working spaces the colours are given in. Cost: O(1).
 std::vector<std::string> validation_spaces();
+
+/// A set of measured reflectances: the columns of an embedded data file.
+struct PatchSet {
+  std::string name;  // "ColorChecker", "AMPAS 190"
+  std::string file;  // in data/
+  std::size_t count = 0;
+};
+
+/// The measured sets, ColorChecker first. Cost: O(1).
+std::vector<PatchSet> validation_sets();
 
 /// One ColorChecker patch, measured spectrum against reconstruction.
 struct PatchResult {
@@ -80,15 +91,21 @@ struct ValidationSummary {
   std::size_t clipped = 0;  // patches outside the space's [0, 1] cube
 };
 
+/// One measured set under one configuration and space.
+struct PatchSetResult {
+  PatchSet set;
+  std::vector<PatchResult> patches;
+  ValidationSummary summary;
+};
+
 /// Everything measured for one configuration in one space.
 struct ConfigResult {
   ValidationConfig config;
   std::string space;
   bool available = true;  // false: the configuration threw (error says why)
   std::string error;
-  std::vector<PatchResult> patches;
+  std::vector<PatchSetResult> sets;  // as validation_sets()
   std::vector<LightResult> lights;
-  ValidationSummary summary;
   double seconds = 0;
 };
 
@@ -96,7 +113,7 @@ struct ConfigResult {
 /// the light's RGB (the light's colour in the space), against the measured spectrum under that
 /// light. Independent of the configuration; one per space.
 struct RgbBaseline {
-  std::string space;
+  std::string space, set;
   std::vector<std::string> patches;
   std::vector<double> delta_e_a, delta_e_f11;  // per patch
   Spread a, f11;
@@ -118,12 +135,12 @@ double roughness(const std::vector<double>& x);
 /// either end of the grid over the mean of the samples in 400..700 nm. Cost: O(N).
 double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x);
 
-/// Runs every configuration in every space, and the RGB baseline. Configurations that throw
-/// are kept, marked unavailable. Throws Error only for missing data or an unknown space.
+/// Runs every configuration in every space on every set, and the RGB baseline. Configurations that
+/// throw are kept, marked unavailable. Throws Error only for missing data or an unknown space.
 /// Cost: ~0.05 s per configuration and space.
 Validation validate(const ColourSpaces& spaces);
 
-/// validate(), then writes OUTDIR/colorchecker.json and OUTDIR/colorchecker.md (temporary
+/// validate(), then writes OUTDIR/validation.json and OUTDIR/validation.md (temporary
 /// files, renamed) and prints the summary to `out`. Throws Error naming the file and the
 /// reason. Cost: validate() + ms.
 void run_validation(const std::string& outdir, std::ostream& out);

@@ -70,7 +70,8 @@ void write_file(const fs::path& path, const std::string& text) {
 std::string validation_json(const Validation& results) {
   const SpectralizerSettings defaults;
   nlohmann::json doc;
-  doc["data"] = "colorchecker_n_ohta_5nm.csv";
+  doc["data"] = nlohmann::json::array();
+  for (const PatchSet& set : validation_sets()) doc["data"].push_back(set.file);
   doc["grid"] = defaults.grid.to_string();
   doc["observer"] = defaults.observer;
   doc["reference_illuminant"] = defaults.illuminant;
@@ -85,37 +86,42 @@ std::string validation_json(const Validation& results) {
     j["available"] = c.available;
     if (!c.available) j["error"] = c.error;
     j["seconds"] = c.seconds;
-    const ValidationSummary& s = c.summary;
-    j["summary"] = {{"delta_e_d65", spread_json(s.delta_e_d65)},
-                    {"delta_e_a", spread_json(s.delta_e_a)},
-                    {"delta_e_f11", spread_json(s.delta_e_f11)},
-                    {"mean_rmse", s.mean_rmse},
-                    {"mean_roughness", s.mean_roughness},
-                    {"mean_roughness_measured", s.mean_roughness_measured},
-                    {"max_relative_xyz_error", s.max_relative_xyz_error},
-                    {"max_edge_ratio", s.max_edge_ratio},
-                    {"max_edge_ratio_measured", s.max_edge_ratio_measured},
-                    {"rho_min", s.rho_min},
-                    {"rho_max", s.rho_max},
-                    {"clipped_patches", s.clipped}};
-    j["patches"] = nlohmann::json::array();
-    for (const PatchResult& p : c.patches)
-      j["patches"].push_back({{"name", p.name},
-                              {"rgb", p.rgb},
-                              {"clipped", p.clipped},
-                              {"status", p.status},
-                              {"delta_e_d65", p.delta_e_d65},
-                              {"delta_e_d65_measured", p.delta_e_d65_measured},
-                              {"delta_e_a", p.delta_e_a},
-                              {"delta_e_f11", p.delta_e_f11},
-                              {"rmse", p.rmse},
-                              {"roughness", p.roughness},
-                              {"roughness_measured", p.roughness_measured},
-                              {"edge_ratio", p.edge_ratio},
-                              {"edge_ratio_measured", p.edge_ratio_measured},
-                              {"relative_xyz_error", p.relative_xyz_error},
-                              {"rho_min", p.rho_min},
-                              {"rho_max", p.rho_max}});
+    j["sets"] = nlohmann::json::array();
+    for (const PatchSetResult& r : c.sets) {
+      const ValidationSummary& s = r.summary;
+      nlohmann::json set{{"name", r.set.name}, {"data", r.set.file}};
+      set["summary"] = {{"delta_e_d65", spread_json(s.delta_e_d65)},
+                        {"delta_e_a", spread_json(s.delta_e_a)},
+                        {"delta_e_f11", spread_json(s.delta_e_f11)},
+                        {"mean_rmse", s.mean_rmse},
+                        {"mean_roughness", s.mean_roughness},
+                        {"mean_roughness_measured", s.mean_roughness_measured},
+                        {"max_relative_xyz_error", s.max_relative_xyz_error},
+                        {"max_edge_ratio", s.max_edge_ratio},
+                        {"max_edge_ratio_measured", s.max_edge_ratio_measured},
+                        {"rho_min", s.rho_min},
+                        {"rho_max", s.rho_max},
+                        {"clipped_patches", s.clipped}};
+      set["patches"] = nlohmann::json::array();
+      for (const PatchResult& p : r.patches)
+        set["patches"].push_back({{"name", p.name},
+                                  {"rgb", p.rgb},
+                                  {"clipped", p.clipped},
+                                  {"status", p.status},
+                                  {"delta_e_d65", p.delta_e_d65},
+                                  {"delta_e_d65_measured", p.delta_e_d65_measured},
+                                  {"delta_e_a", p.delta_e_a},
+                                  {"delta_e_f11", p.delta_e_f11},
+                                  {"rmse", p.rmse},
+                                  {"roughness", p.roughness},
+                                  {"roughness_measured", p.roughness_measured},
+                                  {"edge_ratio", p.edge_ratio},
+                                  {"edge_ratio_measured", p.edge_ratio_measured},
+                                  {"relative_xyz_error", p.relative_xyz_error},
+                                  {"rho_min", p.rho_min},
+                                  {"rho_max", p.rho_max}});
+      j["sets"].push_back(std::move(set));
+    }
     j["lights"] = nlohmann::json::array();
     for (const LightResult& l : c.lights)
       j["lights"].push_back({{"name", l.name},
@@ -135,6 +141,7 @@ std::string validation_json(const Validation& results) {
   doc["rgb_renderer"] = nlohmann::json::array();
   for (const RgbBaseline& b : results.baselines) {
     nlohmann::json j{{"space", b.space},
+                     {"set", b.set},
                      {"delta_e_a", spread_json(b.a)},
                      {"delta_e_f11", spread_json(b.f11)},
                      {"patches", nlohmann::json::array()}};
@@ -149,30 +156,48 @@ std::string validation_json(const Validation& results) {
 
 std::string summary_table(const Validation& results) {
   std::string md =
-      "| configuration | space | ΔE00 D65 (round trip) med / p95 / max | ΔE00 A med / p95 / max "
-      "| ΔE00 F11 med / p95 / max | mean RMSE | mean roughness | max edge ratio | max rel. XYZ "
-      "error | ρ min … max |\n|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const ConfigResult& c : results.configs) {
-    if (!c.available) {
-      md += fmt::format("| {} | {} | unavailable: {} | | | | | | | |\n", c.config.name,
-                        short_space(c.space), c.error);
-      continue;
+      "| set | configuration | space | ΔE00 D65 (round trip) med / p95 / max | ΔE00 A med / p95 / "
+      "max | ΔE00 F11 med / p95 / max | mean RMSE | mean roughness | max edge ratio | max rel. "
+      "XYZ error | ρ min … max |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const PatchSet& set : validation_sets()) {
+    for (const ConfigResult& c : results.configs) {
+      if (!c.available) {
+        md += fmt::format("| {} | {} | {} | unavailable: {} | | | | | | | |\n", set.name,
+                          c.config.name, short_space(c.space), c.error);
+        continue;
+      }
+      for (const PatchSetResult& r : c.sets) {
+        if (r.set.name != set.name) continue;
+        const ValidationSummary& s = r.summary;
+        md += fmt::format(
+            "| {} | {} | {}{} | {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.3f} … "
+            "{:.3f} |\n",
+            set.name, c.config.name, short_space(c.space),
+            s.clipped ? fmt::format(" ({} clipped)", s.clipped) : "", spread_md(s.delta_e_d65),
+            spread_md(s.delta_e_a), spread_md(s.delta_e_f11), s.mean_rmse, s.mean_roughness,
+            s.max_edge_ratio, s.max_relative_xyz_error, s.rho_min, s.rho_max);
+      }
     }
-    const ValidationSummary& s = c.summary;
-    md += fmt::format(
-        "| {} | {}{} | {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
-        c.config.name, short_space(c.space),
-        s.clipped ? fmt::format(" ({} clipped)", s.clipped) : "", spread_md(s.delta_e_d65),
-        spread_md(s.delta_e_a), spread_md(s.delta_e_f11), s.mean_rmse, s.mean_roughness,
-        s.max_edge_ratio, s.max_relative_xyz_error, s.rho_min, s.rho_max);
+    // What the spectra are for: an RGB renderer gets A and F11 this wrong on the same patches.
+    for (const RgbBaseline& b : results.baselines)
+      if (b.set == set.name)
+        md += fmt::format(
+            "| {} | RGB renderer (no spectra; baseline) | {} | 0 by construction | {} | {} | "
+            "| | | | |\n",
+            set.name, short_space(b.space), spread_md(b.a), spread_md(b.f11));
   }
-  // What the spectra are for: an RGB renderer gets A and F11 this wrong on the same patches.
-  for (const RgbBaseline& b : results.baselines)
-    md += fmt::format(
-        "| RGB renderer (no spectra; baseline) | {} | 0 by construction | {} | {} | "
-        "| | | | |\n",
-        short_space(b.space), spread_md(b.a), spread_md(b.f11));
   return md;
+}
+
+// The measured spectra's own roughness and edge ratio, per set (from the first configuration).
+std::string measured_note(const std::vector<ConfigResult>& results) {
+  std::string note;
+  if (results.empty() || !results[0].available) return note;
+  for (const PatchSetResult& r : results[0].sets)
+    note += fmt::format("{}{} measured: mean roughness {:.4f}, max edge ratio {:.2f}",
+                        note.empty() ? "" : "; ", r.set.name, r.summary.mean_roughness_measured,
+                        r.summary.max_edge_ratio_measured);
+  return note;
 }
 
 std::string lights_table(const std::vector<ConfigResult>& results) {
@@ -194,10 +219,11 @@ std::string lights_table(const std::vector<ConfigResult>& results) {
 std::string validation_markdown(const Validation& v) {
   const std::vector<ConfigResult>& results = v.configs;
   const SpectralizerSettings defaults;
-  std::string md = "# ColorChecker validation\n\n";
+  std::string md = "# Validation on measured reflectances\n\n";
   md += fmt::format(
       "Made by `make validate` (`spectralize_figures validate`). The 24 ColorChecker "
-      "reflectances measured by N. Ohta (`data/colorchecker_n_ohta_5nm.csv`) are turned into "
+      "reflectances measured by N. Ohta (`data/colorchecker_n_ohta_5nm.csv`) and the 190 AMPAS "
+      "rawtoaces training patches (`data/ampas_rawtoaces_190_patches_5nm.csv`) are turned into "
       "colours under D65 (relative to the reflected white, the paper's eq. 6) in each space — "
       "clipped to [0, 1] when outside it, as a texture would hold them —, spectralized as "
       "reflectances ({} nm, {}, reference illuminant {}) and compared with the measurement. "
@@ -205,12 +231,10 @@ std::string validation_markdown(const Validation& v) {
       defaults.grid.to_string(), defaults.observer, defaults.illuminant);
   for (const auto& d : kDefinitions) md += fmt::format("- `{}`: {}\n", d[0], d[1]);
   md += "\n## Reflectances: summary\n\n" + summary_table(v);
-  if (!results.empty() && results[0].available)
-    md += fmt::format(
-        "\nThe measured spectra, for comparison: mean roughness {:.4f}, max edge ratio {:.2f} "
-        "(red patches reflect most at the long end: for reflectances a high edge ratio is not "
-        "by itself an artefact).\n",
-        results[0].summary.mean_roughness_measured, results[0].summary.max_edge_ratio_measured);
+  if (const std::string note = measured_note(results); !note.empty())
+    md += "\nThe measured spectra, for comparison: " + note +
+          " (red patches reflect most at the long end: for reflectances a high edge ratio is not "
+          "by itself an artefact).\n";
   md += fmt::format(
       "\nThe RGB renderer rows show each patch under A and F11 as its RGB times the light's RGB "
       "(the light's colour in the space, as a renderer without spectra does), against the "
@@ -222,17 +246,20 @@ std::string validation_markdown(const Validation& v) {
       md += "Unavailable: " + c.error + "\n";
       continue;
     }
-    md +=
-        "| patch | RGB | status | ΔE00 D65 | ΔE00 D65 vs measured | ΔE00 A | ΔE00 F11 | RMSE | "
-        "roughness (measured) | edge ratio | rel. XYZ error | ρ min … max |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const PatchResult& p : c.patches)
-      md += fmt::format(
-          "| {} | {:.4f}, {:.4f}, {:.4f}{} | {} | {:.1e} | {:.3g} | {:.3g} | {:.3g} | {:.4f} | "
-          "{:.4f} ({:.4f}) | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
-          p.name, p.rgb[0], p.rgb[1], p.rgb[2], p.clipped ? " (clipped)" : "", p.status,
-          p.delta_e_d65, p.delta_e_d65_measured, p.delta_e_a, p.delta_e_f11, p.rmse, p.roughness,
-          p.roughness_measured, p.edge_ratio, p.relative_xyz_error, p.rho_min, p.rho_max);
+    for (const PatchSetResult& r : c.sets) {
+      md += fmt::format("\n### {}\n\n", r.set.name);
+      md +=
+          "| patch | RGB | status | ΔE00 D65 | ΔE00 D65 vs measured | ΔE00 A | ΔE00 F11 | RMSE | "
+          "roughness (measured) | edge ratio | rel. XYZ error | ρ min … max |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      for (const PatchResult& p : r.patches)
+        md += fmt::format(
+            "| {} | {:.4f}, {:.4f}, {:.4f}{} | {} | {:.1e} | {:.3g} | {:.3g} | {:.3g} | {:.4f} | "
+            "{:.4f} ({:.4f}) | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
+            p.name, p.rgb[0], p.rgb[1], p.rgb[2], p.clipped ? " (clipped)" : "", p.status,
+            p.delta_e_d65, p.delta_e_d65_measured, p.delta_e_a, p.delta_e_f11, p.rmse, p.roughness,
+            p.roughness_measured, p.edge_ratio, p.relative_xyz_error, p.rho_min, p.rho_max);
+    }
   }
   return md;
 }
@@ -244,17 +271,14 @@ void run_validation(const std::string& outdir, std::ostream& out) {
   const ColourSpaces spaces = ColourSpaces::load();
   const Validation v = validate(spaces);
   const std::vector<ConfigResult>& results = v.configs;
-  write_file(fs::path(outdir) / "colorchecker.json", validation_json(v));
-  write_file(fs::path(outdir) / "colorchecker.md", validation_markdown(v));
+  write_file(fs::path(outdir) / "validation.json", validation_json(v));
+  write_file(fs::path(outdir) / "validation.md", validation_markdown(v));
   fmt::print(out, "{}\n{}", summary_table(v), lights_table(results));
-  if (!results.empty() && results[0].available)
-    fmt::print(out, "measured spectra: mean roughness {:.4f}, max edge ratio {:.2f}\n",
-               results[0].summary.mean_roughness_measured,
-               results[0].summary.max_edge_ratio_measured);
+  if (const std::string note = measured_note(results); !note.empty()) fmt::print(out, "{}\n", note);
   for (const ConfigResult& c : results)
     if (!c.available)
       fmt::print(out, "validate: configuration '{}' unavailable: {}\n", c.config.name, c.error);
-  fmt::print(out, "validate: wrote {}/colorchecker.json and {}/colorchecker.md\n", outdir, outdir);
+  fmt::print(out, "validate: wrote {}/validation.json and {}/validation.md\n", outdir, outdir);
 }
 
 }  // namespace spectralize::figures

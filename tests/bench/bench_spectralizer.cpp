@@ -98,11 +98,13 @@ void BM_SumAdmissible(benchmark::State& state) {
 
 // Full solve of one colour, gamut test included. Paper model: edge filter, exact polish and
 // (reflectance) the rho <= 1 bound. Smooth model: the least-roughness quadratic programme.
+// Natural model: Newton on the link's Lagrangian, the depth, the fallback where it applies.
 void BM_FullSolve(benchmark::State& state) {
   SpectralizerSettings s;
   s.grid = grid_for(static_cast<int>(state.range(0)));
   s.mode = state.range(1) ? Mode::reflectance : Mode::emission;
-  s.model = state.range(2) ? "smooth" : "paper";
+  const char* models[] = {"paper", "smooth", "natural"};
+  s.model = models[state.range(2)];
   Spectralizer sp(s);
   std::size_t i = 1;  // skip the 6000-lm light in reflectance runs' cycle start
   for (auto _ : state) {
@@ -155,7 +157,7 @@ BENCHMARK(BM_TableSynthesis)
 BENCHMARK(BM_NaiveInverses)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SumAdmissible)->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FullSolve)
-    ->ArgNames({"step", "reflectance", "smooth"})
+    ->ArgNames({"step", "reflectance", "model"})  // model: 0 paper, 1 smooth, 2 natural
     ->Args({10, 0, 0})
     ->Args({5, 0, 0})
     ->Args({5, 1, 0})
@@ -164,6 +166,10 @@ BENCHMARK(BM_FullSolve)
     ->Args({5, 0, 1})
     ->Args({5, 1, 1})
     ->Args({1, 0, 1})
+    ->Args({10, 0, 2})
+    ->Args({5, 0, 2})
+    ->Args({5, 1, 2})
+    ->Args({1, 0, 2})
     ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

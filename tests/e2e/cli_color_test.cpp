@@ -76,10 +76,10 @@ TEST(CliColor, HelpGoesToStdoutAndExitsZero) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag << " missing from --help";
 }
 
-// The paper's light: exact (OCIO's float conversion limits this to ~1e-7), non-negative, and the
-// default edge filter leaves no end sample above the mean over 400-700 nm.
+// The paper's light by the paper's model: exact (OCIO's float conversion limits this to ~1e-7),
+// non-negative, and the default edge filter leaves no end sample above the mean over 400-700 nm.
 TEST(CliColor, PaperLightIsExactNonNegativeAndFreeOfEdgePeaks) {
-  auto r = run("--color 6000,5000,1000");
+  auto r = run("--color 6000,5000,1000 --model paper");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Csv c = parse_csv(r.out);
   ASSERT_EQ(c.header, (std::vector<std::string>{"wavelength_nm", "value"}));
@@ -98,7 +98,7 @@ TEST(CliColor, PaperLightIsExactNonNegativeAndFreeOfEdgePeaks) {
 // The paper's surface under D65: a reflectance in [0, 1] whose reflected colour, relative to the
 // reflected white, is the input (white balance W_ref / W_D65 per docs/DESIGN.md §3).
 TEST(CliColor, PaperSurfaceIsAnExactBoundedReflectance) {
-  auto r = run("--color 0.21,0.72,0.15 --mode reflectance --format json");
+  auto r = run("--color 0.21,0.72,0.15 --mode reflectance --format json --model paper");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Json j = Json::parse(r.out);
   EXPECT_EQ(j["status"], "ok");
@@ -263,7 +263,7 @@ TEST(CliColor, SmoothModelIsExactBoundedAndSmoother) {
   };
   for (const char* mode : {"emission", "reflectance"}) {
     const std::string args = std::string("--color 0.21,0.72,0.15 --format json --mode ") + mode;
-    auto smooth = run(args + " --model smooth"), paper = run(args);
+    auto smooth = run(args + " --model smooth"), paper = run(args + " --model paper");
     ASSERT_EQ(smooth.exit_code, 0) << smooth.err;
     ASSERT_EQ(paper.exit_code, 0) << paper.err;
     Json j = Json::parse(smooth.out), p = Json::parse(paper.out);

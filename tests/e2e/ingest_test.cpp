@@ -122,8 +122,10 @@ TEST(Ingest, RerunsSkipWhatIsUpToDate) {
   EXPECT_EQ(m.back()["summary"]["up_to_date"], 4);
   EXPECT_EQ(m.back()["summary"]["converted"], 0);
   EXPECT_EQ(fs::last_write_time(s / "out/walls/brick_BaseColor.exr"), mtime);
+  // Not rewritten (the time above), and not even decoded: a stat and a header read take well
+  // under 50 ms even on a loaded machine (1e-3 was flaky under parallel tests).
   for (const Json& j : m)
-    if (j.value("status", "") == "up_to_date") EXPECT_LT(j["seconds"].get<double>(), 1e-3);
+    if (j.value("status", "") == "up_to_date") EXPECT_LT(j["seconds"].get<double>(), 0.05);
   // The input changes: converted again.
   fs::last_write_time(
       s / "lib/walls/brick_BaseColor.png",

@@ -1,8 +1,10 @@
-// The smooth model (--model smooth) and the emission basis (--emission-basis): the same
-// promises as the paper model (exact under the reference integration, non-negative, a
-// reflectance <= 1, gamut mapping reported), plus optimality: the spectrum meets the KKT
+// The models beyond the paper (--model smooth, --model natural) and the emission basis
+// (--emission-basis): the same promises as the paper model (exact under the reference
+// integration, non-negative, a reflectance <= 1, gamut mapping reported), for both models by
+// the parametrised tests; plus the smooth model's optimality: the spectrum meets the KKT
 // conditions of "least roughness among the exact bounded spectra", checked here from the
-// definition of the roughness, independently of the solver.
+// definition of the roughness, independently of the solver (the natural model's optimality is
+// in natural_model_test.cpp).
 
 #include <gtest/gtest.h>
 
@@ -26,14 +28,24 @@ namespace {
 
 using namespace test;  // NOLINT: the checks of spectralizer_checks.h
 
-Spectralizer make_smooth(Mode mode, const char* grid = "380:780:5", const char* basis = "flat") {
+Spectralizer make_model(const std::string& model, Mode mode, const char* grid = "380:780:5",
+                        const char* basis = "flat") {
   SpectralizerSettings s;
   s.grid = WavelengthGrid::parse(grid);
   s.mode = mode;
-  s.model = "smooth";
+  s.model = model;
   s.emission_basis = basis;
   return Spectralizer(s);
 }
+
+Spectralizer make_smooth(Mode mode, const char* grid = "380:780:5", const char* basis = "flat") {
+  return make_model("smooth", mode, grid, basis);
+}
+
+// The promises both bounded models keep, run for each.
+class BoundedModel : public testing::TestWithParam<std::string> {};
+INSTANTIATE_TEST_SUITE_P(Models, BoundedModel, testing::Values("smooth", "natural"),
+                         [](const auto& info) { return info.param; });
 
 // The roughness of the definition: sum of squared first differences plus (tau/h)^2 times the
 // sum of squared second differences, and its gradient 2 H x, written out here.
@@ -99,16 +111,17 @@ double kkt_violation(const Spectralizer& sp, const std::vector<double>& x, doubl
 
 // --- Exactness, bounds, gamut mapping: the paper model's promises ---
 
-TEST(SmoothModel, ThousandsOfRandomColoursPerSpaceAndMode) {
+TEST_P(BoundedModel, ThousandsOfRandomColoursPerSpaceAndMode) {
   for (Mode mode : {Mode::emission, Mode::reflectance}) {
-    const Spectralizer sp = make_smooth(mode);
+    const Spectralizer sp = make_model(GetParam(), mode);
     for (const Space& s : spaces()) {
       SCOPED_TRACE(std::string(s.name) + " " + std::string(to_string(mode)));
       const Tally t = run_random(sp, s, 2000, 4321);
       const Bounds b = expected_out(s.name, mode);
       EXPECT_GE(static_cast<double>(t.out), b.lo * 2000);
       EXPECT_LE(static_cast<double>(t.out), b.hi * 2000);
-      EXPECT_LE(t.worst_error, 1e-12);  // the QP's equality constraints hold to rounding
+      EXPECT_EQ(t.other, 0u);           // every colour answered
+      EXPECT_LE(t.worst_error, 1e-12);  // the equality constraints hold to rounding
     }
   }
 }
@@ -126,6 +139,7 @@ TEST(SmoothModel, SpectraMeetTheKktConditionsAndAreSmootherThanThePapers) {
     const Spectralizer smooth = make_smooth(mode);
     SpectralizerSettings ps;
     ps.mode = mode;
+    ps.model = "paper";
     const Spectralizer paper(ps);
     const double upper = mode == Mode::reflectance ? 1.0 : std::numeric_limits<double>::infinity();
     double worst = 0;
@@ -143,9 +157,10 @@ TEST(SmoothModel, SpectraMeetTheKktConditionsAndAreSmootherThanThePapers) {
   }
 }
 
-TEST(SmoothModel, EmissionIsScaleInvariant) {
-  // The programme is homogeneous without an upper bound: k xyz -> k spectrum (1e-9 relative).
-  const Spectralizer sp = make_smooth(Mode::emission);
+TEST_P(BoundedModel, EmissionIsScaleInvariant) {
+  // Both programmes are homogeneous without an upper bound (smooth: quadratic in x; natural:
+  // z -> z + log k leaves the roughness of z unchanged): k xyz -> k spectrum (1e-9 relative).
+  const Spectralizer sp = make_model(GetParam(), Mode::emission);
   const Xyz xyz = rgb(kRec709ToXyz, 0.8, 0.3, 0.1);
   const SpectrumResult a = sp.spectralize(xyz);
   for (double k : {1e-6, 1e3, 1e6}) {
@@ -158,17 +173,17 @@ TEST(SmoothModel, EmissionIsScaleInvariant) {
 
 // --- White ---
 
-TEST(SmoothModel, WhiteSurfaceIsThePerfectReflector) {
-  const Spectralizer sp = make_smooth(Mode::reflectance);
+TEST_P(BoundedModel, WhiteSurfaceIsThePerfectReflector) {
+  const Spectralizer sp = make_model(GetParam(), Mode::reflectance);
   const SpectrumResult r = sp.spectralize(d65_white());
   ASSERT_EQ(r.status, Status::ok) << r.message;
   for (double v : r.values) EXPECT_EQ(v, 1.0);
 }
 
-TEST(SmoothModel, GreySurfacesAreFlatWithoutSnapping) {
-  // A flat spectrum has zero roughness, so every grey is flat by optimality alone (the white
-  // snap does not apply at 50%): 1e-6 relative (the solver's ridge is 1e-10).
-  const Spectralizer sp = make_smooth(Mode::reflectance);
+TEST_P(BoundedModel, GreySurfacesAreFlatWithoutSnapping) {
+  // A flat spectrum (x or its link z) has zero roughness, so every grey is flat by optimality
+  // alone (the white snap does not apply at 50%): 1e-6 relative (the solvers' ridges).
+  const Spectralizer sp = make_model(GetParam(), Mode::reflectance);
   for (double level : {0.02, 0.18, 0.5, 0.9}) {
     const SpectrumResult r = sp.spectralize(level * d65_white());
     ASSERT_EQ(r.status, Status::ok);
@@ -183,7 +198,7 @@ TEST(SmoothModel, WhiteLightWithD65BasisIsTheD65Table) {
   // table's (eq. 6): the same luminance, and xy within 1e-4 of the space's D65 (0.3127,
   // 0.3290), the 4-digit rounding of the table's chromaticity.
   const Illuminant d65 = Illuminant::get("D65");
-  for (std::string model : {"paper", "smooth"}) {
+  for (std::string model : {"paper", "smooth", "natural"}) {
     SpectralizerSettings s;
     s.model = model;
     s.emission_basis = "D65";
@@ -210,7 +225,7 @@ TEST(SmoothModel, WhiteLightWithD65BasisIsTheD65Table) {
 TEST(SmoothModel, IlluminantBasisKeepsEveryPromise) {
   // With a basis E, spectrum = E s, s >= 0: exact and non-negative for random colours of
   // every space, both models; lights near D65 stay close to D65 in shape.
-  for (std::string model : {"paper", "smooth"}) {
+  for (std::string model : {"paper", "smooth", "natural"}) {
     for (const char* basis : {"D65", "A", "FL2"}) {
       SpectralizerSettings s;
       s.grid = WavelengthGrid::parse(model == "paper" ? "380:780:10" : "380:780:5");
@@ -228,12 +243,12 @@ TEST(SmoothModel, IlluminantBasisKeepsEveryPromise) {
 
 // --- The gamut boundary ---
 
-TEST(SmoothModel, ReflectancesJustInsideAndJustOutsideTheSolid) {
+TEST_P(BoundedModel, ReflectancesJustInsideAndJustOutsideTheSolid) {
   // Along rays from grey toward saturated colours of 24 hues at three luminances, the
   // boundary of the reflectance solid is found by bisection on in_gamut(); colours 1e-3
   // inside are exact with status ok and the optimum found (no message); 1e-3 outside are
   // mapped (out_of_gamut), exact and bounded.
-  const Spectralizer sp = make_smooth(Mode::reflectance);
+  const Spectralizer sp = make_model(GetParam(), Mode::reflectance);
   const Reference ref = reference_of(sp);
   const Xyz white = sp.reference_white();
   int inside = 0, outside = 0;
@@ -276,13 +291,13 @@ TEST(SmoothModel, ReflectancesJustInsideAndJustOutsideTheSolid) {
   EXPECT_GT(outside, 30);
 }
 
-TEST(SmoothModel, ColoursMappedOntoTheLocusEdgeAreExact) {
+TEST_P(BoundedModel, ColoursMappedOntoTheLocusEdgeAreExact) {
   // Colours far outside the locus are mapped to 1e-6 inside its boundary, where the feasible
   // set is a sliver (found by fuzzing: XYZ (3.21, 1.23, 0) came out 3% off). Every such colour,
   // 72 hues at two luminances, both modes, 5 and 10 nm, must be exact to 1e-9 and bounded.
   for (const char* grid : {"380:780:10", "380:780:5"}) {
     for (Mode mode : {Mode::emission, Mode::reflectance}) {
-      const Spectralizer sp = make_smooth(mode, grid);
+      const Spectralizer sp = make_model(GetParam(), mode, grid);
       const Reference ref = reference_of(sp);
       std::vector<Xyz> colours = {{3.21, 1.23, 0.0}};
       for (int h = 0; h < 72; ++h)
