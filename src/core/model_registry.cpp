@@ -16,8 +16,8 @@ bool ModelInfo::uses(std::string_view setting) const {
 }
 
 const std::vector<ModelInfo>& spectrum_models() {
-  static const std::vector<ModelInfo> models = {paper_model_info(), smooth_model_info(),
-                                                natural_model_info()};
+  static const std::vector<ModelInfo> models = {natural_model_info(), smooth_model_info(),
+                                                paper_model_info()};
   return models;
 }
 
