@@ -11,7 +11,7 @@ Three kinds of blocks are examples:
 Matching: timings ("1.18 s", "0.004") are not compared where the README marks them as such
 (a number followed by " s" in a summary line); a line ending in "..." or "... (abridged)" matches
 any line that starts the same way; a line "..." skips any lines; JSON output is compared key by
-key (arrays shown with "..." compare their first elements). Blocks of top-level `make` commands
+key, numbers to 1e-12 relative (arrays shown with "..." compare their first elements). Blocks of top-level `make` commands
 are skipped (this script is run by `make test`).
 
 Usage: readme_examples.py README.md BUILD_DIR SOURCE_DIR
@@ -76,6 +76,15 @@ def lines_match(shown, actual):
     return None
 
 
+def same_value(shown, actual):
+    """Equal, numbers to 1e-12 relative: the shown digits come from one compiler's rounding."""
+    if isinstance(shown, list) and isinstance(actual, list):
+        return len(shown) == len(actual) and all(same_value(a, b) for a, b in zip(shown, actual))
+    if isinstance(shown, float) and isinstance(actual, (int, float)) and not isinstance(actual, bool):
+        return abs(shown - actual) <= 1e-12 * max(abs(shown), abs(actual))
+    return shown == actual
+
+
 def json_matches(shown_lines, actual_text):
     """Each '"key": value' line shown must equal the actual JSON's value for that key."""
     try:
@@ -92,10 +101,10 @@ def json_matches(shown_lines, actual_text):
         if "..." in value:
             items = [v.strip() for v in value.strip("[]").split(",") if v.strip() not in ("", "...")]
             want = [json.loads(v) for v in items]
-            if actual[key][: len(want)] != want:
+            if not same_value(want, actual[key][: len(want)]):
                 return f"{key}: shown {want}, got {actual[key][:len(want)]}"
             continue
-        if json.loads(value) != actual[key]:
+        if not same_value(json.loads(value), actual[key]):
             return f"{key}: shown {value}, got {json.dumps(actual[key])}"
     return None
 
