@@ -6,6 +6,7 @@ find_package(nlohmann_json REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(OpenImageIO REQUIRED)
 find_package(Imath REQUIRED)
+find_package(OpenEXR REQUIRED)
 
 # OIIO's exported target names /usr/include/opencv4, which does not exist without OpenCV's
 # headers; CMake refuses non-existent include dirs on imported targets.

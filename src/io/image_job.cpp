@@ -9,16 +9,19 @@
 #include <future>
 #include <mutex>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 #include "core/error.h"
 #include "io/colour_space.h"
+#include "io/exr_scanline_writer.h"
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
 #include "io/image_input.h"
 #include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
 #include "io/safe_output.h"
+#include "io/strip_plan.h"
 
 namespace spectralize {
 
@@ -40,68 +43,140 @@ void limit_threads(int threads) {
 
 using RowsFn = std::function<void(const float* in, std::size_t pixels, float* out)>;
 
+int worker_count(int threads) {
+  return threads > 0 ? threads
+                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// Where the strips go. Scanline OpenEXR: ExrScanlineWriter, several whole compression blocks per
+// call (compressed in parallel). Tiles and other formats: OIIO's writer. Buffers are in the
+// file's own sample type where it is HALF or FLOAT (no conversion copy inside the writer),
+// else float (OIIO converts: integer RGB files).
+class Sink {
+ public:
+  Sink(const std::string& format, const OIIO::ImageSpec& ospec, AtomicOutput& file, int threads)
+      : file_(file), ospec_(ospec), tiled_(ospec.tile_width > 0) {
+    const std::string& output = file.destination();
+    const bool uniform = ospec.channelformats.empty();
+    type_ = uniform && (ospec.format == OIIO::TypeHalf || ospec.format == OIIO::TypeFloat)
+                ? ospec.format
+                : OIIO::TypeFloat;
+    if (format == "openexr" && !tiled_) {
+      exr_ = std::make_unique<ExrScanlineWriter>(ospec, file.proxy(), output, threads);
+      block_ = exr_block_rows(ospec.get_string_attribute("compression", "zip"));
+      return;
+    }
+    writer_ = OIIO::ImageOutput::create(format);
+    if (!writer_) throw Error("OpenImageIO has no " + format + " writer: " + OIIO::geterror());
+    if (tiled_ && !writer_->supports("tiles"))
+      throw Error("'" + output + "': " + format + " files cannot be tiled (leave out --tile)");
+    // Every byte goes through the checked proxy where the writer uses one correctly, so a full
+    // disk or a file-size limit is an error here, not a truncated file at the destination.
+    const bool proxied = writes_through_proxy(format) && writer_->set_ioproxy(file.proxy());
+    if (!writer_->open(proxied ? output : file.path(), ospec))
+      throw Error("'" + output + "': cannot write: " + writer_->geterror());
+    block_ = tiled_ ? ospec.tile_height : 16;
+  }
+
+  /// The sample type of the buffers write() takes. Cost: O(1).
+  OIIO::TypeDesc type() const { return type_; }
+  /// Rows of one compression block (or tile). Cost: O(1).
+  int block_rows() const { return block_; }
+
+  /// Rows [y0, y1) of the data window, relative to its top. Thread: one at a time, in order.
+  void write(int y0, int y1, const void* data) {
+    const OIIO::ImageSpec& s = ospec_;
+    if (exr_) {
+      exr_->write(s.y + y0, y1 - y0, data);
+    } else {
+      const bool ok =
+          tiled_ ? writer_->write_tiles(s.x, s.x + s.width, s.y + y0, s.y + y1, 0, 1, type_, data)
+                 : writer_->write_scanlines(s.y + y0, s.y + y1, 0, type_, data);
+      if (!ok) throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+    }
+    file_.check();
+  }
+
+  /// Completes the file. Cost: the writer's close.
+  void close() {
+    if (exr_) {
+      exr_->close();
+    } else if (!writer_->close()) {
+      throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+    }
+  }
+
+ private:
+  AtomicOutput& file_;
+  const OIIO::ImageSpec& ospec_;
+  bool tiled_;
+  OIIO::TypeDesc type_;
+  int block_ = 16;
+  std::unique_ptr<ExrScanlineWriter> exr_;
+  std::unique_ptr<OIIO::ImageOutput> writer_;
+};
+
 // Streams the input to an image of `ospec` in strips: read, convert, write (the write of one
-// strip overlapping the conversion of the next), through `out`'s checked temporary file.
+// strip overlapping the conversion of the next), through `file`'s checked temporary file.
 // Memory is O(strip), not O(image). Returns (convert, write) seconds.
 std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std::string& format,
                                  const OIIO::ImageSpec& ospec, const RowsFn& convert,
-                                 const ProgressFn& progress) {
+                                 const ProgressFn& progress, int threads) {
   const OIIO::ImageSpec& spec = in.spec();
-  const int nch = spec.nchannels, out_nch = ospec.nchannels;
   const std::string& output = file.destination();
-  auto writer = OIIO::ImageOutput::create(format);
-  if (!writer) throw Error("OpenImageIO has no " + format + " writer: " + OIIO::geterror());
-  if (ospec.tile_width > 0 && !writer->supports("tiles"))
-    throw Error("'" + output + "': " + format + " files cannot be tiled (leave out --tile)");
-  // Every byte goes through the checked proxy where the writer uses one correctly, so a full
-  // disk or a file-size limit is an error here, not a truncated file at the destination.
-  const bool proxied = writes_through_proxy(format) && writer->set_ioproxy(file.proxy());
-  if (!writer->open(proxied ? output : file.path(), ospec))
-    throw Error("'" + output + "': cannot write: " + writer->geterror());
-
-  // A strip holds ~24 MB of output samples, in whole ZIP blocks (16 rows), output tiles and
-  // input tiles, so that OpenEXR compresses many blocks of a strip in parallel while we
-  // compute the next one. Very wide images go a block at a time, so memory stays bounded.
+  const int nch = spec.nchannels, out_nch = ospec.nchannels;
+  Sink sink(format, ospec, file, threads);
   const std::size_t width = static_cast<std::size_t>(spec.width);
-  const std::size_t bytes_per_row = width * static_cast<std::size_t>(out_nch) * sizeof(float);
-  const std::size_t budget = 24u << 20;
-  const int out_unit = ospec.tile_height > 0 ? ospec.tile_height : 16;
-  int unit = std::lcm(out_unit, std::max(1, in.tile_height()));
-  if (unit > 512) unit = std::max(out_unit, in.tile_height());
-  if (ospec.tile_height == 0 && bytes_per_row * unit > budget) unit = std::max(1, in.tile_height());
-  const int strip = unit * static_cast<int>(std::clamp<std::size_t>(budget / (bytes_per_row * unit),
-                                                                    1, std::max(1, 512 / unit)));
+  const std::size_t sample = sink.type().size();
+  const int strip = strip_rows(spec.height, sink.block_rows(), in.tile_height(),
+                               width * out_nch * sample, worker_count(threads));
+  // The converter writes float; HALF strips are filled a few rows at a time through a float
+  // scratch buffer of ~8 MB (so the strip is never held as float too).
+  const bool narrow = sink.type() != OIIO::TypeFloat;
+  const int sub =
+      narrow
+          ? std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip)
+          : strip;
   std::vector<float> inbuf(width * strip * nch);
-  std::vector<float> outbufs[2] = {std::vector<float>(width * strip * out_nch),
-                                   std::vector<float>(width * strip * out_nch)};
+  std::vector<float> scratch(narrow ? width * sub * out_nch : 0);
+  std::vector<unsigned char> outbufs[2] = {
+      std::vector<unsigned char>(width * strip * out_nch * sample),
+      std::vector<unsigned char>(width * strip * out_nch * sample)};
   std::future<void> writing;  // the previous strip's write, overlapping this strip's work
   double t_convert = 0, t_write = 0;
-  const bool tiled = ospec.tile_width > 0;
   for (int y0 = 0, k = 0; y0 < spec.height; y0 += strip, ++k) {
     const int y1 = std::min(spec.height, y0 + strip);
-    std::vector<float>& outbuf = outbufs[k % 2];
-    const std::size_t n = width * static_cast<std::size_t>(y1 - y0);
+    unsigned char* out = outbufs[k % 2].data();
     auto t0 = Clock::now();
     in.read_rows(y0, y1, inbuf.data());
-    convert(inbuf.data(), n, outbuf.data());
+    for (int r0 = y0; r0 < y1; r0 += sub) {
+      const int r1 = std::min(y1, r0 + sub);
+      const std::size_t n = width * static_cast<std::size_t>(r1 - r0);
+      const float* src = inbuf.data() + width * static_cast<std::size_t>(r0 - y0) * nch;
+      unsigned char* dst = out + width * static_cast<std::size_t>(r0 - y0) * out_nch * sample;
+      if (!narrow) {
+        convert(src, n, reinterpret_cast<float*>(dst));
+        continue;
+      }
+      convert(src, n, scratch.data());
+      OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
+                                 static_cast<int>(n * out_nch));
+    }
     auto t1 = Clock::now();
     t_convert += std::chrono::duration<double>(t1 - t0).count();
-    // Hand the strip to the writer once it has finished the previous one (two buffers).
+    // Hand the strip to the writer once it has finished the previous one (two buffers). With
+    // --threads 1 the write runs here, so the job never keeps more than one core busy.
     if (writing.valid()) writing.get();
     t_write += seconds_since(t1);
-    writing = std::async(std::launch::async, [&, y0, y1, data = outbuf.data()] {
-      const bool ok =
-          tiled ? writer->write_tiles(spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, 0, 1,
-                                      OIIO::TypeFloat, data)
-                : writer->write_scanlines(spec.y + y0, spec.y + y1, 0, OIIO::TypeFloat, data);
-      if (!ok) throw Error("'" + output + "': write failed: " + writer->geterror());
-      file.check();
-    });
+    if (threads == 1)
+      sink.write(y0, y1, out);
+    else
+      writing = std::async(std::launch::async, [&sink, y0, y1, out] { sink.write(y0, y1, out); });
     if (progress) progress(width * y1, width * spec.height);
   }
   auto t_close = Clock::now();
   if (writing.valid()) writing.get();
-  if (!writer->close()) throw Error("'" + output + "': write failed: " + writer->geterror());
+  sink.close();
   // The finished file must open as what was meant (its header and chunk table are written last).
   file.check();
   auto back = OIIO::ImageInput::create(format);
@@ -138,7 +213,7 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   auto [t_convert, t_write] = stream(
       reader, file, "openexr", conversion.output_spec(),
       [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
-      progress);
+      progress, settings.threads);
   ImageReport rep = conversion.finish(log);
   rep.output = output;
   rep.mip_levels = reader.mip_levels();
@@ -234,7 +309,7 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
             },
             OIIO::paropt(settings.threads));
       },
-      progress);
+      progress, settings.threads);
   rep.invalid_pixels = total.invalid;
   rep.half_overflow_pixels = total.half_overflow;
   if (total.invalid > 0)

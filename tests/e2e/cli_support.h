@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -80,10 +81,13 @@ inline Run run(const std::string& args, const std::string& env = "") {
 /// and its peak resident memory in MB. Cost: the command's.
 struct Measured {
   int exit_code = -1;
-  double peak_mb = 0;
+  double peak_mb = 0;     // peak resident set of the command's largest process
+  double seconds = 0;     // wall time
+  long minor_faults = 0;  // of the command (and the shell around it)
 };
 inline Measured run_measured(const std::string& command) {
   Measured m;
+  const auto t0 = std::chrono::steady_clock::now();
   pid_t pid = fork();
   if (pid == 0) {
     execl("/bin/sh", "sh", "-c", command.c_str(), nullptr);
@@ -94,6 +98,8 @@ inline Measured run_measured(const std::string& command) {
   if (wait4(pid, &status, 0, &usage) != pid) return m;
   m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   m.peak_mb = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+  m.minor_faults = usage.ru_minflt;
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;
 }
 
