@@ -86,6 +86,7 @@ bench: deps build
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
+	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
 
 SOURCES = $(shell find src tests oiio_plugin python -name '*.cpp' -o -name '*.h' 2>/dev/null)
 

@@ -194,7 +194,7 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return std::string(v.json ? "json" : "csv"); }, nullptr});
   s.push_back({"compression", "--compression", "NAME", "",
                "OpenEXR compression, OIIO's NAME[:LEVEL]: zip, zips, piz, rle, pxr24, b44, b44a, "
-               "dwaa, dwab, none (zip:1..9, dwaa:45)",
+               "dwaa, dwab, none (zip:1..9, plain zip is zip:4; dwaa:45)",
                kFileCommands, true, false,
                [](Settings& v, std::string_view t) { v.compression = parse_compression(t); },
                [](const Settings& v) { return v.compression; }, nullptr});
@@ -326,8 +326,10 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return v.cache_dir; },
                [](const Settings& v) { return !v.cache_dir.empty(); }, "none"});
   s.push_back({"threads", "--threads", "N", "",
-               "Worker threads (0: all cores); the output does not depend on it", kFileCommands,
-               true, false, [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
+               "Cores to use: conversion and compression workers (0: all; 1: one core); the output "
+               "does not depend on it",
+               kFileCommands, true, false,
+               [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
                [](const Settings& v) { return std::to_string(v.threads); }, nullptr});
   s.push_back({"config", "--config", "FILE", "",
                "OCIO config (default: $OCIO, else the config shipped with spectralize)",
