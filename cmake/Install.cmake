@@ -28,6 +28,11 @@ install(FILES ${PROJECT_BINARY_DIR}/spectralize-help.txt ${PROJECT_SOURCE_DIR}/R
 # other as "core/x.h", so include/spectralize is on the include path too) and version.h.
 configure_file(${PROJECT_SOURCE_DIR}/cmake/version.h.in
                ${PROJECT_BINARY_DIR}/generated/spectralize/version.h @ONLY)
+# The same include paths in a build tree (a parent project's add_subdirectory):
+# <spectralize/core/x.h> is src/core/x.h, <spectralize/version.h> the generated one.
+file(CREATE_LINK ${PROJECT_SOURCE_DIR}/src/core ${PROJECT_BINARY_DIR}/generated/spectralize/core
+     SYMBOLIC)
+target_include_directories(spectralize_core PUBLIC $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>)
 file(GLOB _core_headers ${PROJECT_SOURCE_DIR}/src/core/*.h)
 install(FILES ${_core_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spectralize/core)
 install(FILES ${PROJECT_BINARY_DIR}/generated/spectralize/version.h

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/spectral_table.h"
 #include "core/spectralizer.h"
+#include "core/spectrum_model.h"
 #include "io/colour_space.h"
 #include "io/settings.h"
 #include "io/spectral_image_layout.h"
@@ -118,14 +119,18 @@ TEST(SettingsSchema, EveryKeyHasExamplesAndRefusesBadValues) {
 // Truth: if a setting changes the spectra, the cache key must change (else a cached table made
 // for other settings would be reused: exact colours, wrong spectra), and the report and the EXR
 // attributes must say what changed. Checked from several starting points, because some settings
-// only matter there (the illuminant for reflectances, the curvature for the smooth model).
+// only matter there (the illuminant for reflectances, the curvature for the smooth model, the
+// edge filter for the paper's model): every registered model, in both modes.
 TEST(SettingsSchema, EverySettingThatShapesSpectraIsInTheCacheKeyReportAndAttributes) {
-  std::vector<Settings> bases(5);
-  bases[1].mode = ModeChoice::reflectance;
-  bases[2].spectral.model = "smooth";
-  bases[3].mode = ModeChoice::reflectance;
-  bases[3].spectral.model = "smooth";
-  bases[4].spectral.emission_basis = "D65";
+  std::vector<Settings> bases;
+  for (const ModelInfo& model : spectrum_models())
+    for (ModeChoice mode : {ModeChoice::emission, ModeChoice::reflectance}) {
+      Settings b;
+      b.spectral.model = std::string(model.name);
+      b.mode = mode;
+      bases.push_back(b);
+    }
+  bases.emplace_back().spectral.emission_basis = "D65";
   int shaping = 0;
   for (Settings base : bases) {
     resolve_mode(base);
