@@ -83,8 +83,14 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   if (!date_warning.empty()) warn(date_warning);
   rep.preview_colorspace = s.preview_colorspace.empty() ? default_colour_space(spaces, true).first
                                                         : spaces.resolve(s.preview_colorspace);
+  // Why this colour space and mode, so that whoever reads the file (and an ingest rerun that
+  // skips it) can tell; attributes given by the caller come after and win.
+  std::map<std::string, std::string> recorded = {
+      {"spectralize:colorspaceReason", in.colorspace_reason},
+      {"spectralize:modeReason", in.mode_reason}};
+  for (const auto& [name, value] : attributes) recorded[name] = value;
   p.layout = spectral_exr_layout(
-      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, attributes});
+      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, recorded});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,

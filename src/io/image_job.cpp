@@ -186,7 +186,6 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     throw Error("'" + output + "': the written file does not read back: " +
                 (back ? back->geterror() : OIIO::geterror()));
   back->close();
-  file.commit();
   t_write += seconds_since(t_close);
   return {t_convert, t_write};
 }
@@ -195,8 +194,10 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
-                          TablePool* pool, const std::map<std::string, std::string>& attributes) {
+                          TablePool* pool, const std::map<std::string, std::string>& attributes,
+                          const std::function<void(const ImageReport&)>& before_commit) {
   install_cleanup_handlers();
+  const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
   const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
   ImageReader reader(input, out_channels, /*straight_alpha=*/true);
@@ -223,12 +224,18 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   rep.seconds_convert = t_convert;
   rep.seconds_write = t_write;
   rep.seconds_total = seconds_since(t_start);
+  // What must succeed with the image (its report) is written first: a failure there leaves
+  // nothing at the destination either.
+  if (before_commit) before_commit(rep);
+  file.commit();
   return rep;
 }
 
 ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
-                           const Settings& settings, const ProgressFn& progress, const LogFn& log) {
+                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
+                           const std::function<void(const ToRgbReport&)>& before_commit) {
   install_cleanup_handlers();
+  const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
   ToRgbReport rep;
   rep.input = input;
@@ -323,6 +330,8 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
          " pixels have values outside 0..1, clipped by the integer format");
   rep.clipped_pixels = total.clipped;
   rep.seconds = seconds_since(t_start);
+  if (before_commit) before_commit(rep);
+  file.commit();
   return rep;
 }
 

@@ -4,6 +4,7 @@
 // read, converted and written in strips, so memory is bounded whatever the image size; the
 // output goes through an exclusive temporary file that is checked and renamed when complete.
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -16,17 +17,20 @@ namespace spectralize {
 
 /// Converts `input` to the spectral OpenEXR `output`. Never overwrites the input (under any
 /// alias); nothing is left at `output` unless it completed. `pool` shares a batch's tables;
-/// `attributes` are recorded in the output's header. Throws Error naming the file and the
-/// reason. Cost: O(pixels x bands), plus node solves on first use.
+/// `attributes` are recorded in the output's header; `before_commit` runs with the finished
+/// report before the file is moved into place (a throw there leaves nothing). Throws Error
+/// naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
                           TablePool* pool = nullptr,
-                          const std::map<std::string, std::string>& attributes = {});
+                          const std::map<std::string, std::string>& attributes = {},
+                          const std::function<void(const ImageReport&)>& before_commit = {});
 
 /// Integrates the spectral OpenEXR `input` (any writer's) to RGB(A) in settings.colorspace
 /// (resolved by the caller), written to the OpenEXR `output` like run_image_job. Throws Error.
 /// Cost: O(pixels x bands).
 ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
-                           const Settings& settings, const ProgressFn& progress, const LogFn& log);
+                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
+                           const std::function<void(const ToRgbReport&)>& before_commit = {});
 
 }  // namespace spectralize

@@ -95,6 +95,7 @@ struct Found {
   std::string input;
   fs::path relative_dir;  // mirrored under the destination
   std::map<std::string, std::string> overrides;
+  std::string failure;  // known before it runs (a pattern that matches nothing)
 };
 
 // A folder, walked recursively: its images, with their folders relative to it (hidden files and
@@ -171,14 +172,31 @@ std::string output_name(const std::string& pattern, const Found& f) {
   return rel;
 }
 
+// A word of a file name found in a rule list, and where it ends in the name (the index of its
+// last part: name_words lists the parts, then each pair of neighbours).
+struct WordHit {
+  std::string word;
+  int end = -1;
+  explicit operator bool() const { return !word.empty(); }
+};
+
 // The longest word of the name that is in `list` ("basecolor" rather than "color").
-bool word_in(const std::vector<std::string>& words, const std::string& list, std::string& hit) {
+WordHit word_in(const std::vector<std::string>& words, const std::string& list) {
   std::set<std::string> names;
   for (const auto& n : OIIO::Strutil::splits(list, ",")) names.insert(n);
-  hit.clear();
-  for (const auto& w : words)
-    if (names.count(w) && w.size() > hit.size()) hit = w;
-  return !hit.empty();
+  const int parts = static_cast<int>(words.size() + 1) / 2;
+  WordHit hit;
+  for (int i = 0; i < static_cast<int>(words.size()); ++i)
+    if (names.count(words[i]) && words[i].size() > hit.word.size())
+      hit = {words[i], i < parts ? i : i - parts + 1};
+  return hit;
+}
+
+// Whether `a` names the map rather than `b`: texture names put the map's kind last
+// ("metal_plate_basecolor" is a colour map of a metal plate), then the longer word.
+bool names_the_map(const WordHit& a, const WordHit& b) {
+  if (!b) return true;
+  return a.end != b.end ? a.end > b.end : a.word.size() > b.word.size();
 }
 
 // What identifies the OCIO config a batch uses, for the up-to-date key.
@@ -210,21 +228,6 @@ std::string ingest_key(const IngestItem& item, const struct stat& st, const std:
     text += "|" + key + "=" + value;
   }
   return hex(fnv1a(text));
-}
-
-// Removes the temporaries a killed earlier run left for this output
-// (".name.spectralize-XXXXXX.tmp").
-std::uint64_t remove_stale_temporaries(const fs::path& output) {
-  const std::string prefix = "." + output.filename().string() + ".spectralize-";
-  std::uint64_t removed = 0;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(output.parent_path(), ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.size() == prefix.size() + 10 && name.rfind(prefix, 0) == 0 &&
-        name.substr(name.size() - 4) == ".tmp")
-      removed += fs::remove(e.path(), ec) ? 1 : 0;
-  }
-  return removed;
 }
 
 // A byte-for-byte copy through an AtomicOutput, with the input's modification time (so a rerun
@@ -321,12 +324,27 @@ IngestPlan plan_ingest(const IngestRequest& request) {
     } else if (fs::exists(fs::symlink_status(p, ec))) {
       found.push_back({src, fs::path(), {}});  // a file given by name: checked when run
     } else if (src.find_first_of("*?[") != std::string::npos) {
+      // Matches mirror their folders below the pattern's fixed part ("lib/*/*.png" -> "walls/").
+      fs::path fixed;
+      for (const auto& part : p.parent_path()) {
+        if (part.string().find_first_of("*?[") != std::string::npos) break;
+        fixed /= part;
+      }
+      const std::size_t before = found.size();
       glob_t g{};
       if (::glob(src.c_str(), 0, nullptr, &g) == 0)
         for (std::size_t i = 0; i < g.gl_pathc; ++i)
-          if (fs::is_regular_file(g.gl_pathv[i], ec))
-            found.push_back({g.gl_pathv[i], fs::path(), {}});
+          if (fs::is_regular_file(g.gl_pathv[i], ec) && is_image_name(g.gl_pathv[i]))
+            found.push_back({g.gl_pathv[i],
+                             fixed.empty()
+                                 ? fs::path(g.gl_pathv[i]).parent_path()
+                                 : fs::path(g.gl_pathv[i]).parent_path().lexically_relative(fixed),
+                             {},
+                             {}});
       globfree(&g);
+      if (found.size() == before)
+        found.push_back(
+            {src, fs::path(), {}, quoted_path(src) + ": the pattern matches no image file"});
     } else {
       // A missing file is that file's failure (recorded when run); the others carry on.
       found.push_back({src, fs::path(), {}});
@@ -340,11 +358,12 @@ IngestPlan plan_ingest(const IngestRequest& request) {
   for (const Found& f : found) {
     IngestItem item;
     item.input = f.input;
+    item.failure = f.failure;
     item.settings = request.settings;
     for (const auto& [key, value] : f.overrides)
       apply_setting(item.settings, *find_setting(key), value, "key '" + key + "' of " + f.input);
     item.relative = output_name(item.settings.ingest.name_pattern, f);
-    if (item.relative.empty() || item.relative.rfind("..", 0) == 0)
+    if (item.failure.empty() && (item.relative.empty() || item.relative.rfind("..", 0) == 0))
       item.failure = "its output name '" + item.relative + "' leaves the destination";
     item.output = (fs::path(request.destination) / item.relative).string();
     by_output[item.relative].push_back(std::move(item));
@@ -386,6 +405,15 @@ struct Batch {
   int threads_per_job = 1;
   TablePool pool;
   std::atomic<std::uint64_t> stale{0};
+  std::mutex swept_mutex;
+  std::set<std::string> swept;  // output folders already cleared of stale temporaries
+
+  /// Removes, once per folder, the temporaries killed earlier runs left there (any file's:
+  /// outputs, copies, manifests; a live writer's are locked and stay). Cost: one listing.
+  void sweep(const std::string& folder) {
+    std::lock_guard<std::mutex> lock(swept_mutex);
+    if (swept.insert(folder).second) stale += remove_stale_temporaries(folder);
+  }
 };
 
 // One file: up to date, non-colour data (skipped or copied), converted, or failed; the record.
@@ -414,15 +442,27 @@ Json process(const IngestItem& item, Batch& batch) {
     if (!fs::is_directory(out.parent_path(), ec))
       throw Error(quoted_path(item.output) + ": cannot create the folder " +
                   quoted_path(out.parent_path().string()));
-    batch.stale += remove_stale_temporaries(out);
+    batch.sweep(out.parent_path().string());
     // Non-colour data by its name: never spectralized.
     const std::vector<std::string> words = name_words(fs::path(item.input).stem().string());
-    std::string hit, data_reason;
-    if (word_in(words, s.ingest.data_names, hit)) data_reason = "data name rule '" + hit + "'";
-    // Up to date: the key recorded in the output's header.
-    if (!batch.plan.request.force && data_reason.empty() &&
-        exr_string_attributes(item.output)[kKeyAttribute] == key)
-      return finish("up_to_date");
+    const WordHit data = word_in(words, s.ingest.data_names);
+    const WordHit light = word_in(words, s.ingest.emission_names);
+    const WordHit surface = word_in(words, s.ingest.reflectance_names);
+    const WordHit& colour = names_the_map(light, surface) ? light : surface;
+    std::string data_reason;
+    if (data && names_the_map(data, colour)) data_reason = "data name rule '" + data.word + "'";
+    // Up to date: the key recorded in the output's header, which also says how the file was
+    // decided.
+    if (!batch.plan.request.force && data_reason.empty()) {
+      auto recorded = exr_string_attributes(item.output);
+      if (recorded[kKeyAttribute] == key) {
+        r["colorspace"] = recorded["spectralize:colorspace"];
+        r["colorspace_reason"] = recorded["spectralize:colorspaceReason"];
+        r["mode"] = recorded["spectralize:mode"];
+        r["mode_reason"] = recorded["spectralize:modeReason"];
+        return finish("up_to_date");
+      }
+    }
     InputInterpretation in;
     if (data_reason.empty()) {
       // Non-colour data by its colour space (a file rule, or the file's metadata).
@@ -434,7 +474,10 @@ Json process(const IngestItem& item, Batch& batch) {
     }
     if (!data_reason.empty()) {
       r["reason"] = data_reason;
-      if (!s.ingest.copy_data) return finish("skipped_data");
+      if (!s.ingest.copy_data) {
+        r.erase("output");  // nothing is written
+        return finish("skipped_data");
+      }
       const std::string copy = (out.parent_path() / fs::path(item.input).filename()).string();
       r["output"] = copy;
       if (!batch.plan.request.force && same_copy(copy, st)) return finish("up_to_date");
@@ -444,17 +487,16 @@ Json process(const IngestItem& item, Batch& batch) {
     // Mode by name rules, before the data type decides.
     std::string mode_reason;
     if (s.mode == ModeChoice::automatic) {
-      std::string light_word, surface_word;
-      const bool light = word_in(words, s.ingest.emission_names, light_word);
-      const bool surface = word_in(words, s.ingest.reflectance_names, surface_word);
-      if (light != surface) {
-        s.mode = light ? ModeChoice::emission : ModeChoice::reflectance;
-        mode_reason = "name rule '" + (light ? light_word : surface_word) + "'";
+      if (light || surface) {
+        s.mode = &colour == &light ? ModeChoice::emission : ModeChoice::reflectance;
+        mode_reason = "name rule '" + colour.word + "'";
       }
     }
+    std::map<std::string, std::string> recorded = {{kKeyAttribute, key},
+                                                   {"spectralize:source", item.input}};
+    if (!mode_reason.empty()) recorded["spectralize:modeReason"] = mode_reason;
     const ImageReport rep =
-        run_image_job(item.input, item.output, s, nullptr, batch.log, &batch.pool,
-                      {{kKeyAttribute, key}, {"spectralize:source", item.input}});
+        run_image_job(item.input, item.output, s, nullptr, batch.log, &batch.pool, recorded);
     r["colorspace"] = rep.colorspace;
     r["colorspace_reason"] = rep.colorspace_reason;
     r["mode"] = std::string(to_string(rep.settings.spectral.mode));
@@ -475,6 +517,7 @@ Json process(const IngestItem& item, Batch& batch) {
 IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress,
                          const LogFn& log) {
   install_cleanup_handlers();
+  const ReadFileScope reads;  // no output of the batch replaces a file it reads
   const auto t0 = Clock::now();
   const Settings& base = plan.request.settings;
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -487,10 +530,13 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   fs::create_directories(plan.request.destination, ec);
   // The manifest's place is checked (and its temporary file made) before any work; a killed
   // earlier run's temporary manifest goes.
-  const std::uint64_t stale_manifests = remove_stale_temporaries(fs::path(plan.manifest));
+  Batch batch{plan, log, config_identity(base), std::max(1, total_threads / jobs), {}, {}};
+  // The manifest's folder too (a killed run's temporary manifest), unless it is a stream.
+  const fs::path manifest_path(plan.manifest);
+  if (!fs::exists(manifest_path, ec) || fs::is_regular_file(manifest_path, ec))
+    batch.sweep(manifest_path.has_parent_path() ? manifest_path.parent_path().string() : ".");
   AtomicOutput manifest(plan.manifest, {}, /*allow_stream=*/true);
 
-  Batch batch{plan, log, config_identity(base), std::max(1, total_threads / jobs), {}, {}};
   std::vector<Json> records(plan.items.size());
   IngestSummary sum;
   std::mutex mutex;
@@ -519,7 +565,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   for (auto& t : threads) t.join();
   for (const std::string& w : batch.pool.save()) log(0, w);
 
-  sum.stale_temporaries_removed = batch.stale + stale_manifests;
+  sum.stale_temporaries_removed = batch.stale;
   sum.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   sum.manifest = plan.manifest;
   std::string text;

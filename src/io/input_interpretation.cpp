@@ -123,13 +123,22 @@ std::pair<std::string, std::string> metadata_space(const std::string& file,
   if (const OIIO::ParamValue* icc = spec.find_attribute("ICCProfile")) {
     const std::string desc =
         icc_description(static_cast<const unsigned char*>(icc->data()), icc->datasize());
-    const std::string d = lower(desc);
+    // Only the descriptions the standard profiles carry: a variant ("sRGB ... Linear",
+    // "DCI-P3") has other primaries, white or curve, so it is named in a warning instead.
+    const std::string d = lower(std::string(OIIO::Strutil::strip(desc)));
+    auto one_of = [&](std::initializer_list<const char*> names) {
+      for (const char* n : names)
+        if (d == n) return true;
+      return false;
+    };
     std::string space;
-    if (d.find("srgb") != std::string::npos)
+    if (one_of({"srgb", "srgb iec61966-2.1", "srgb iec61966-2-1", "srgb built-in",
+                "srgb iec61966-2.1 (equivalent)", "srgb profile"}))
       space = find_space(spaces, "srgb_rec709_scene", {"sRGB - Texture", "srgb_tx"});
-    else if (d.find("adobe rgb") != std::string::npos)
+    else if (one_of({"adobe rgb (1998)", "adobergb1998", "compatible with adobe rgb (1998)",
+                     "adobe rgb"}))
       space = find_space(spaces, "g22_adobergb_scene", {"Adobe RGB (1998) - Texture"});
-    else if (d.find("p3") != std::string::npos)
+    else if (one_of({"display p3", "displayp3"}))
       space = find_space(spaces, "srgb_p3d65_scene", {"Display P3 - Texture"});
     if (!space.empty()) return {space, "embedded ICC profile '" + clip(desc) + "'"};
     warnings.push_back(where + "its embedded ICC profile '" +

@@ -1,17 +1,21 @@
 #include "io/safe_output.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <climits>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <set>
+#include <utility>
 
 #include "core/error.h"
 
@@ -119,13 +123,53 @@ void install_cleanup_handlers() {
     sa.sa_handler = remove_temporaries_and_die;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESETHAND;
-    for (int sig : {SIGINT, SIGTERM, SIGHUP})
+    // Every signal whose default action ends the process: interruptions, timers, CPU limits,
+    // user signals, and crashes (the temporaries go before the default action runs).
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF,
+                    SIGXCPU, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGSYS})
       if (at_default(sig)) ::sigaction(sig, &sa, nullptr);
     // Writes past `ulimit -f` or into a closed pipe fail with EFBIG / EPIPE, reported as errors
     // that name the file, instead of killing the process half-way.
     for (int sig : {SIGXFSZ, SIGPIPE})
       if (at_default(sig)) std::signal(sig, SIG_IGN);
   });
+}
+
+namespace {
+// The files this process reads (device, inode): no AtomicOutput replaces one of them. Kept
+// while a ReadFileScope lives (the CLI's whole run; each call into the Python module).
+std::mutex g_inputs_mutex;
+std::set<std::pair<dev_t, ino_t>> g_inputs;
+int g_scopes = 0;
+}  // namespace
+
+ReadFileScope::ReadFileScope() {
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  ++g_scopes;
+}
+
+ReadFileScope::~ReadFileScope() {
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  if (--g_scopes == 0) g_inputs.clear();
+}
+
+void protect_input(const std::string& path) {
+  struct stat st {};
+  if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  if (g_scopes > 0) g_inputs.insert({st.st_dev, st.st_ino});
+}
+
+std::string link_target(const std::string& path) {
+  std::error_code ec;
+  fs::path p(path);
+  for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+    const fs::path link = fs::read_symlink(p, ec);
+    if (ec) return fs::absolute(path, ec).lexically_normal().string();
+    p = link.is_absolute() ? link : p.parent_path() / link;
+  }
+  const fs::path canonical = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  return (ec ? fs::absolute(p, ec).lexically_normal() : canonical).string();
 }
 
 bool same_file(const std::string& a, const std::string& b) {
@@ -158,6 +202,7 @@ void check_readable_file(const std::string& path, std::string_view what) {
                  : S_ISSOCK(st.st_mode) ? "a socket"
                                         : "not a file") +
                 ")");
+  protect_input(path);
 }
 
 std::string clip(std::string_view value, std::size_t limit) {
@@ -240,21 +285,21 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
   if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
     // Write at the link's target, so the link keeps pointing at the new file (also when the
     // target does not exist yet, which weakly_canonical alone would not follow).
-    std::error_code ec;
-    fs::path p(destination);
-    for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
-      const fs::path link = fs::read_symlink(p, ec);
-      if (ec) throw Error(where + "cannot resolve the symbolic link: " + ec.message());
-      p = link.is_absolute() ? link : p.parent_path() / link;
-    }
-    target_ = fs::weakly_canonical(p, ec).string();
-    if (ec || target_.empty()) throw Error(where + "cannot resolve the symbolic link");
+    target_ = link_target(destination);
+    if (target_.empty()) throw Error(where + "cannot resolve the symbolic link");
   }
   if (::stat(target_.c_str(), &st) == 0) {
     for (const std::string& input : inputs)
       if (same_file(target_, input))
         throw Error(where + "is the input file '" + clip(input, 200) +
                     "'; refusing to overwrite it");
+    {
+      std::lock_guard<std::mutex> lock(g_inputs_mutex);
+      if (S_ISREG(st.st_mode) && g_inputs.count({st.st_dev, st.st_ino}))
+        throw Error(where +
+                    "is a file this run reads (an input, its config or list); refusing "
+                    "to overwrite it");
+    }
     if (S_ISDIR(st.st_mode)) throw Error(where + "is a directory");
     if (!S_ISREG(st.st_mode)) {
       if (!allow_stream || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))
@@ -277,13 +322,27 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
   // never follows a link planted at that name, and tries another name if one is there.
   const std::string suffix = ".spectralize-XXXXXX.tmp";
   const std::string name = target.filename().string();
-  std::string tmpl =
+  const std::string base =
       (dir / ("." + fitting_name(name, NAME_MAX - 1 - suffix.size()) + suffix)).string();
-  fd_ = ::mkostemps(tmpl.data(), 4, O_CLOEXEC);
-  if (fd_ < 0)
-    throw Error(where + "cannot create a file in '" + clip(dir.string(), 200) +
-                "': " + errno_text(errno));
-  path_ = tmpl;
+  // Locked while it lives, so that a sweep of stale temporaries (remove_stale_temporaries)
+  // never takes a live one; a sweep that removed it between creation and lock is seen as a
+  // lost link, and another name is made.
+  for (int attempt = 0;; ++attempt) {
+    std::string tmpl = base;
+    fd_ = ::mkostemps(tmpl.data(), 4, O_CLOEXEC);
+    if (fd_ < 0)
+      throw Error(where + "cannot create a file in '" + clip(dir.string(), 200) +
+                  "': " + errno_text(errno));
+    struct stat st {};
+    if (::flock(fd_, LOCK_EX) == 0 && ::fstat(fd_, &st) == 0 && st.st_nlink > 0) {
+      path_ = tmpl;
+      break;
+    }
+    ::close(fd_);
+    fd_ = -1;
+    if (attempt == 8)
+      throw Error(where + "cannot keep a temporary file in '" + clip(dir.string(), 200) + "'");
+  }
   slot_ = register_temporary(path_);
   // The permissions a new file would get, or those of the file it replaces.
   struct stat old {};
@@ -351,6 +410,33 @@ void AtomicOutput::commit() {
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+bool is_temporary_name(const std::string& name) {
+  const std::string suffix = ".spectralize-XXXXXX.tmp";
+  if (name.size() < 2 + suffix.size() || name[0] != '.') return false;
+  const std::string tail = name.substr(name.size() - suffix.size());
+  for (std::size_t i = 0; i < suffix.size(); ++i) {
+    const bool random = i >= 13 && i < 19;  // the six characters mkostemps fills
+    if (random ? !std::isalnum(static_cast<unsigned char>(tail[i])) : tail[i] != suffix[i])
+      return false;
+  }
+  return true;
+}
+
+std::uint64_t remove_stale_temporaries(const std::string& folder) {
+  std::uint64_t removed = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!is_temporary_name(name) || !e.is_regular_file(ec) || e.is_symlink(ec)) continue;
+    const int fd = ::open(e.path().c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) continue;
+    // A live writer holds the lock; a killed one's lock died with it.
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::unlink(e.path().c_str()) == 0) ++removed;
+    ::close(fd);
+  }
+  return removed;
 }
 
 }  // namespace spectralize

@@ -86,4 +86,30 @@ class AtomicOutput {
 /// Cost: O(limit).
 std::string clip(std::string_view value, std::size_t limit = 80);
 
+/// While one lives, the files registered by protect_input are kept (nested and concurrent
+/// scopes share them; the last to end forgets them). Cost: a lock.
+class ReadFileScope {
+ public:
+  ReadFileScope();
+  ~ReadFileScope();
+  ReadFileScope(const ReadFileScope&) = delete;
+  ReadFileScope& operator=(const ReadFileScope&) = delete;
+};
+
+/// Registers a file this process reads (an input image, the OCIO config, a list), so that no
+/// AtomicOutput of the process ever replaces it, under any name. Cost: one stat.
+void protect_input(const std::string& path);
+
+/// `path` absolute with every symbolic link followed, also a link to a file that does not
+/// exist yet (where writing `path` would create a file). Cost: a few system calls.
+std::string link_target(const std::string& path);
+
+/// True for the name of an AtomicOutput's temporary file (".<name>.spectralize-XXXXXX.tmp").
+/// Cost: O(name).
+bool is_temporary_name(const std::string& name);
+
+/// Removes the temporary files that killed writers left in `folder` (not its subfolders): those
+/// no live AtomicOutput holds locked. Returns how many. Cost: one directory listing.
+std::uint64_t remove_stale_temporaries(const std::string& folder);
+
 }  // namespace spectralize

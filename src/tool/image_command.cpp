@@ -24,11 +24,8 @@ namespace {
 // the input or the output under any alias; /dev/stdout and /dev/null work as streams.
 std::unique_ptr<AtomicOutput> open_report(const Options& opt, const std::string& input) {
   if (opt.report.empty()) return nullptr;
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path a = fs::weakly_canonical(fs::absolute(opt.report), ec);
-  const fs::path b = fs::weakly_canonical(fs::absolute(opt.output), ec);
-  if (a == b || same_file(opt.report, opt.output))
+  // Compared where each would be written: through links, also links to files not yet there.
+  if (link_target(opt.report) == link_target(opt.output) || same_file(opt.report, opt.output))
     throw Error("--report '" + clip(opt.report) +
                 "': is the output file; refusing to overwrite it");
   const std::string inputs[] = {input, opt.output};
@@ -39,10 +36,10 @@ std::unique_ptr<AtomicOutput> open_report(const Options& opt, const std::string&
   }
 }
 
+// The report's bytes, into its temporary file (or stream) before the image is committed; the
+// caller commits it after the image.
 void write_report(AtomicOutput* report, const std::string& json) {
-  if (!report) return;
-  report->write(json + "\n");
-  report->commit();
+  if (report) report->write(json + "\n");
 }
 
 // The command line's settings, checked before any work: a mistake is a usage error (exit 2).
@@ -67,9 +64,10 @@ int run_to_rgb(const Options& opt) {
   });
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);
-  const ToRgbReport r =
-      run_to_rgb_job(opt.to_rgb, opt.output, s, console_progress(opt.verbosity, opt.to_rgb), log);
-  write_report(report.get(), report_json(r));
+  const ToRgbReport r = run_to_rgb_job(
+      opt.to_rgb, opt.output, s, console_progress(opt.verbosity, opt.to_rgb), log,
+      [&](const ToRgbReport& done) { write_report(report.get(), report_json(done)); });
+  if (report) report->commit();
   if (opt.verbosity > 0)
     fmt::print(
         stderr, "spectralize: '{}' -> '{}': {}x{}, {} {} bands {}..{} nm{} -> {}{}; {:.2f} s\n",
@@ -91,11 +89,11 @@ int run_image(const Options& opt) {
       usage_checked([&] { return checked_image_settings(opt.settings, opt.output, kFlagNames); });
   auto report = open_report(opt, input);
   const LogFn log = console_log(opt.verbosity);
-  const ImageReport r =
-      run_image_job(input, opt.output, s, console_progress(opt.verbosity, input), log);
-
+  const ImageReport r = run_image_job(
+      input, opt.output, s, console_progress(opt.verbosity, input), log, nullptr, {},
+      [&](const ImageReport& done) { write_report(report.get(), report_json(done)); });
+  if (report) report->commit();
   const PixelCounts& c = r.counts;
-  write_report(report.get(), report_json(r));
   if (opt.verbosity > 0) {
     fmt::print(stderr,
                "spectralize: '{}' -> '{}': {}x{} {} ({}), {} bands {}, {} {}; out of gamut {}, "

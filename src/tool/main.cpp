@@ -326,6 +326,8 @@ void parse(int argc, const char** argv, Options& opt, bool& help, bool& version)
 
 int main(int argc, const char** argv) {
   install_cleanup_handlers();
+  // No output of this run replaces a file it reads (docs/DESIGN.md §9).
+  const ReadFileScope reads;
   Options opt;
   bool help = false, version = false;
   try {
@@ -340,6 +342,9 @@ int main(int argc, const char** argv) {
       check_stdout();
       return kExitOk;
     }
+    // The config is read by every command, before any output is opened.
+    protect_input(opt.settings.config);
+    if (const char* env = std::getenv("OCIO")) protect_input(env);
     int status = kExitOk;
     switch (opt.command) {
       case kPlotPixel:

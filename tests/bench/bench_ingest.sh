@@ -51,7 +51,8 @@ find "$lib" -type f | grep -v _normal | while read -r f; do
 done
 t_loop=$(echo "$(now) - $t0" | bc -l)
 t0=$(now); "$bin" ingest "$lib" -o "$work/one" -q --jobs 1; t_one=$(echo "$(now) - $t0" | bc -l)
-t0=$(now); "$bin" ingest "$lib" -o "$work/two" -q --jobs 2; t_two=$(echo "$(now) - $t0" | bc -l)
+/usr/bin/time -f "%e %M" -o "$work/time.txt" "$bin" ingest "$lib" -o "$work/two" -q --jobs 2
+read -r t_two rss_two <"$work/time.txt"
 t0=$(now); "$bin" ingest "$lib" -o "$work/two" -q --jobs 2; t_rerun=$(echo "$(now) - $t0" | bc -l)
 
 rate() { echo "scale=2; $1 / $2" | bc -l; }
@@ -60,6 +61,7 @@ printf '%-42s %8.1f %9.1f %10.2f %8s\n' "loop of single-file calls" "$t_loop" "$
 printf '%-42s %8.1f %9.1f %10.2f %8.2f\n' "ingest --jobs 1" "$t_one" "$(rate "$colour" "$t_one")" "$(rate "$pixels / 1000000" "$t_one")" "$(rate "$t_loop" "$t_one")"
 printf '%-42s %8.1f %9.1f %10.2f %8.2f\n' "ingest --jobs 2" "$t_two" "$(rate "$colour" "$t_two")" "$(rate "$pixels / 1000000" "$t_two")" "$(rate "$t_loop" "$t_two")"
 printf '%-42s %8.2f %9.0f\n' "rerun, everything up to date ($files files)" "$t_rerun" "$(rate "$files" "$t_rerun")"
+echo "peak RSS of ingest --jobs 2: $(( rss_two / 1024 )) MB (largest file 2048x2048)"
 # The outputs are the same files.
 diffs=0
 for f in $(cd "$work/loop" && find . -name '*.exr'); do

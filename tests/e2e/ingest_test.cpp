@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -144,6 +145,105 @@ TEST(Ingest, RerunsSkipWhatIsUpToDate) {
           .exit_code,
       0);
   EXPECT_EQ(manifest(s / "out/spectralize-ingest.jsonl").back()["summary"]["converted"], 4);
+}
+
+// Truth: a rerun's records say how each file was decided, as the first run's did (read back
+// from the output's header), and a data file that was skipped names no output.
+TEST(Ingest, RerunRecordsSayHowEachFileWasDecided) {
+  Scratch s;
+  make_library(s);
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q").exit_code, 0);
+  const auto first = manifest(s / "out/spectralize-ingest.jsonl");
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q").exit_code, 0);
+  const auto again = manifest(s / "out/spectralize-ingest.jsonl");
+  for (const char* name :
+       {"brick_BaseColor.png", "brick_albedo_srgb.png", "sunset_hdri.exr", "forest.exr"}) {
+    SCOPED_TRACE(name);
+    const Json a = record(first, name), b = record(again, name);
+    ASSERT_EQ(a["status"], "converted");
+    ASSERT_EQ(b["status"], "up_to_date");
+    for (const char* key : {"colorspace", "colorspace_reason", "mode", "mode_reason"})
+      EXPECT_EQ(b[key], a[key]) << key;
+  }
+  const Json data = record(again, "brick_Normal.png");
+  EXPECT_EQ(data["status"], "skipped_data");
+  EXPECT_FALSE(data.contains("output"));
+}
+
+// Truth: texture names put the map's kind last, so a colour word after a data word is a colour
+// map ("metal_plate_basecolor"), a data word after a colour word is data ("albedo_roughness").
+TEST(Ingest, TheLastWordOfTheNameSaysWhatTheMapIs) {
+  Scratch s;
+  fs::create_directories(s / "lib");
+  for (const char* name : {"metal_plate_basecolor.png", "rough_stone_albedo.png",
+                           "mask_painted_diffuse.png", "albedo_roughness.png", "sky_hdri_mask.png"})
+    fs::copy_file(kImages + "colorchecker_srgb8.png", s / ("lib/" + std::string(name)));
+  ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "out") + " -q").exit_code, 0);
+  const auto m = manifest(s / "out/spectralize-ingest.jsonl");
+  for (const char* colour :
+       {"metal_plate_basecolor.png", "rough_stone_albedo.png", "mask_painted_diffuse.png"}) {
+    EXPECT_EQ(record(m, colour)["status"], "converted") << colour;
+    EXPECT_EQ(record(m, colour)["mode"], "reflectance") << colour;
+  }
+  EXPECT_EQ(record(m, "albedo_roughness.png")["reason"], "data name rule 'roughness'");
+  EXPECT_EQ(record(m, "sky_hdri_mask.png")["reason"], "data name rule 'mask'");
+}
+
+// Truth: glob patterns mirror the folders below their fixed part, and a pattern that matches
+// nothing is that input's failure (exit 1, named), not a silent success.
+TEST(Ingest, GlobsMirrorTheirFoldersAndEmptyOnesFail) {
+  Scratch s;
+  make_library(s);
+  auto r = run("ingest '" + (s / "lib") + "/*/*.png' -o " + (s / "out") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / "out/walls/brick_BaseColor.exr"));
+  EXPECT_FALSE(fs::exists(s / "out/brick_BaseColor.exr"));
+  r = run("ingest '" + (s / "lib") + "/*/*.tif' " + (s / "lib/sky/forest.exr") + " -o " +
+          (s / "out2") + " -q");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("*.tif"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("matches no image file"), std::string::npos) << r.err;
+  const auto m = manifest(s / "out2/spectralize-ingest.jsonl");
+  EXPECT_EQ(record(m, "forest.exr")["status"], "converted");
+  EXPECT_EQ(m.back()["summary"]["failed"], 1);
+}
+
+// Truth: the temporaries that killed runs left anywhere in the output folders (outputs, data
+// copies, names cut to fit NAME_MAX) are removed by the next run, and a live writer's
+// temporary (locked) is never touched.
+TEST(Ingest, StaleTemporariesOfAnyOutputGoLiveOnesStay) {
+  Scratch s;
+  make_library(s);
+  fs::create_directories(s / "out/walls");
+  const std::string long_name = "." + std::string(200, 'x') + ".spectralize-Ab12Cd.tmp";
+  const std::vector<std::string> stale = {
+      s / "out/walls/.brick_Normal.png.spectralize-AbC123.tmp",
+      s / "out/walls/.anything.exr.spectralize-q9Z8y7.tmp", s / ("out/walls/" + long_name),
+      s / "out/.spectralize-ingest.jsonl.spectralize-Q1w2E3.tmp"};
+  for (const auto& f : stale) std::ofstream(f) << "left by a killed run";
+  // A live writer: a process holding the lock of its temporary.
+  const std::string live = s / "out/walls/.other.exr.spectralize-L1v3W7.tmp";
+  std::ofstream(live) << "being written";
+  const std::string keep = s / "out/walls/.notes.tmp";  // not ours
+  std::ofstream(keep) << "a user's file";
+  const pid_t holder = fork();
+  if (holder == 0) {
+    const int fd = ::open(live.c_str(), O_RDONLY);
+    ::flock(fd, LOCK_EX);
+    ::pause();
+    ::_exit(0);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  auto r = run("ingest " + (s / "lib") + " -o " + (s / "out") + " --data copy -q");
+  ::kill(holder, SIGKILL);
+  ::waitpid(holder, nullptr, 0);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto& f : stale) EXPECT_FALSE(fs::exists(f)) << f;
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_TRUE(fs::exists(keep));
+  EXPECT_EQ(
+      manifest(s / "out/spectralize-ingest.jsonl").back()["summary"]["stale_temporaries_removed"],
+      4);
 }
 
 // Truth: a batch killed at any moment (SIGINT, SIGTERM, SIGKILL) finishes on rerun, and the

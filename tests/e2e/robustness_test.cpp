@@ -195,6 +195,40 @@ TEST(Robustness, ReportPathIsCheckedBeforeAnyWork) {
   ASSERT_EQ(std::system(("sh -c '" + cmd + "'").c_str()), 0);
   EXPECT_EQ(read_json(s / "fifo.out")["pixels"], 32768);
   EXPECT_EQ(fs::status(s / "fifo.json").type(), fs::file_type::fifo);  // not replaced
+  // Links not yet pointing at a file: a report linked to the output, an output linked to the
+  // report; and files the run reads besides the input (its OCIO config, given or by $OCIO).
+  fs::create_symlink("e.exr", s / "to_output.json");
+  r = run((s / "one.exr") + " -o " + (s / "e.exr") + " -q --report " + (s / "to_output.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_FALSE(fs::exists(s / "e.exr"));
+  fs::create_symlink("f.json", s / "to_report.exr");
+  r = run((s / "one.exr") + " -o " + (s / "to_report.exr") + " -q --report " + (s / "f.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_FALSE(fs::exists(s / "f.json"));
+  fs::copy_file(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", s / "cfg.ocio");
+  const std::string config = e2e::slurp(s / "cfg.ocio");
+  fs::copy_file(s / "cfg.ocio", s / "cfg.exr");  // OCIO reads a config by any name
+  for (const std::string cfg : {"cfg.ocio", "cfg.exr"}) {
+    const std::string args =
+        cfg == "cfg.ocio" ? " -o " + (s / "g.exr") + " --report " + (s / cfg) : " -o " + (s / cfg);
+    r = run((s / "one.exr") + " -q --config " + (s / cfg) + args);
+    EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("reads"), std::string::npos) << r.err;
+    EXPECT_EQ(e2e::slurp(s / cfg), config);
+    EXPECT_FALSE(fs::exists(s / "g.exr"));
+  }
+  r = run((s / "one.exr") + " -q -o " + (s / "h.exr") + " --report " + (s / "cfg.ocio"),
+          "OCIO=" + (s / "cfg.ocio"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(e2e::slurp(s / "cfg.ocio"), config);
+  // A report that cannot be written (a full device) fails the run, and the image is not left.
+  for (const char* flag : {"", "--to-rgb"}) {
+    const std::string in = *flag ? (s / "a.exr") : (s / "one.exr");
+    r = run(std::string(flag) + " " + in + " -o " + (s / "i.exr") + " -q --report /dev/full");
+    EXPECT_EQ(r.exit_code, 1) << flag << r.err;
+    EXPECT_NE(r.err.find("/dev/full"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s / "i.exr")) << flag;
+  }
   // A symlink to a report is written through: the link stays a link.
   fs::create_symlink("target.json", s / "link.json");
   r = run((s / "one.exr") + " -o " + (s / "d.exr") + " -q --report " + (s / "link.json"));
@@ -340,6 +374,16 @@ TEST(Robustness, ColourMetadataIsHonouredOrNamed) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("Wacky Printer 9000"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("sRGB - Texture"), std::string::npos) << r.err;  // the space assumed
+  // Variants of known profiles have other curves or whites: named, never taken for the standard.
+  for (const char* variant : {"sRGB IEC61966-2.1 Linear", "DCI-P3"}) {
+    write_image(s / "v.jpg", 4, 4, {"R", "G", "B"}, OIIO::TypeUInt8, {}, 0.5f, with_icc(variant));
+    r = run((s / "v.jpg") + " -o " + (s / "v.exr") + " --report " + (s / "v.json"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(variant), std::string::npos) << r.err;
+    EXPECT_EQ(read_json(s / "v.json")["colorspace_reason"].get<std::string>().find("ICC"),
+              std::string::npos)
+        << variant;
+  }
   // A linear-tagged PNG (gAMA 1.0): 0.5 stays 0.5 (sRGB decoding would give 0.214).
   write_image(s / "lin.png", 2, 2, {"R", "G", "B"}, OIIO::TypeUInt16, {}, 0.5f,
               [](OIIO::ImageSpec& spec) { spec.attribute("oiio:ColorSpace", "Linear"); });
@@ -360,6 +404,52 @@ TEST(Robustness, ColourMetadataIsHonouredOrNamed) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("already a spectral image"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(s / "x.exr"));
+}
+
+// --- 11. --to-rgb on other tools' files ---
+
+// Truth: --to-rgb never writes a NaN, Inf or silently clamped sample: non-finite samples become
+// 0 and HALF overflow is clamped, both counted in a warning naming the file; channels that
+// look spectral but do not parse are named; a file with no band where colour is defined
+// (360-830 nm) is refused. Oracle: the written file read back with OIIO, and the messages.
+TEST(Robustness, ToRgbNamesWhatItCannotWrite) {
+  Scratch s;
+  const std::vector<std::string> bands = {"S0.400nm", "S0.500nm", "S0.600nm", "S0.700nm"};
+  std::vector<float> px(4 * 2 * bands.size(), 1.0f);
+  px[0] = std::numeric_limits<float>::quiet_NaN();  // pixel 0: NaN
+  px[4] = std::numeric_limits<float>::infinity();   // pixel 1: +Inf
+  for (int b = 0; b < 4; ++b) px[8 + b] = 1e7f;     // pixel 2: far beyond HALF
+  std::vector<std::string> names = bands;
+  names.push_back("S0.5x0nm");  // spectral-looking, unparseable
+  std::vector<float> with_odd;
+  for (std::size_t p = 0; p < 8; ++p) {
+    for (std::size_t b = 0; b < 4; ++b) with_odd.push_back(px[p * 4 + b]);
+    with_odd.push_back(1.0f);
+  }
+  write_image(s / "odd.exr", 4, 2, names, OIIO::TypeFloat, with_odd);
+  auto r = run("--to-rgb " + (s / "odd.exr") + " -o " + (s / "rgb.exr"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("2 pixels have NaN or infinite samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exceed HALF's range"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("S0.5x0nm"), std::string::npos) << r.err;
+  const e2e::Exr out = e2e::read_exr(s / "rgb.exr");
+  for (float v : out.pixels) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_LE(out.at(2, 0, out.channel("G")), 65504.0f);
+  // The NaN and Inf samples count as 0: the same pixels as a file with zeros there.
+  with_odd[0] = 0.0f;
+  with_odd[5] = 0.0f;
+  write_image(s / "zeros.exr", 4, 2, names, OIIO::TypeFloat, with_odd);
+  ASSERT_EQ(run("--to-rgb " + (s / "zeros.exr") + " -q -o " + (s / "zeros_rgb.exr")).exit_code, 0);
+  const e2e::Exr ref = e2e::read_exr(s / "zeros_rgb.exr");
+  for (int x : {0, 1})
+    for (const char* c : {"R", "G", "B"})
+      EXPECT_EQ(out.at(x, 0, out.channel(c)), ref.at(x, 0, ref.channel(c))) << x << c;
+  // No band inside 360-830 nm: refused, nothing written.
+  write_image(s / "ir.exr", 2, 2, {"S0.900nm", "S0.1000nm"}, OIIO::TypeFloat);
+  r = run("--to-rgb " + (s / "ir.exr") + " -o " + (s / "ir_rgb.exr"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("360-830 nm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s / "ir_rgb.exr"));
 }
 
 // --- 9. Unusable caches ---
