@@ -125,7 +125,11 @@ std::pair<std::string, std::string> metadata_space(const std::string& file,
         icc_description(static_cast<const unsigned char*>(icc->data()), icc->datasize());
     const std::string d = lower(desc);
     std::string space;
-    if (d.find("srgb") != std::string::npos)
+    // spectralize's own profiles end in the space's interop ID: "ACEScg (lin_ap1_scene)".
+    if (const std::size_t open = desc.rfind(" ("); open != std::string::npos && desc.back() == ')')
+      space = find_space(spaces, desc.substr(open + 2, desc.size() - open - 3), {});
+    if (!space.empty()) {
+    } else if (d.find("srgb") != std::string::npos)
       space = find_space(spaces, "srgb_rec709_scene", {"sRGB - Texture", "srgb_tx"});
     else if (d.find("adobe rgb") != std::string::npos)
       space = find_space(spaces, "g22_adobergb_scene", {"Adobe RGB (1998) - Texture"});
@@ -266,7 +270,7 @@ std::pair<std::string, std::string> default_colour_space(const ColourSpaces& spa
     const std::string space = spaces.role(role);
     if (!space.empty()) return {space, std::string("the config's ") + role + " role"};
   }
-  throw Error(
+  throw ConfigError(
       "the OCIO config '" + spaces.origin() + "' has no " +
       (float_data ? "scene_linear role" : "matte_paint, color_picking or texture_paint role") +
       " to choose a default colour space: give --colorspace");
