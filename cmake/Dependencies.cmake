@@ -36,6 +36,10 @@ if(NOT TARGET OpenColorIO::OpenColorIO)
     INTERFACE_INCLUDE_DIRECTORIES "${OCIO_INCLUDE_DIR}")
 endif()
 
+# LittleCMS makes the ICC profiles of TIFF, PNG and JPEG outputs (io/icc_profile.cpp only).
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LCMS2 REQUIRED IMPORTED_TARGET lcms2)
+
 find_program(OCIOCHECK_EXECUTABLE ociocheck)
 
 # The Python module is built for the interpreter Debian's python3-numpy, pybind11 and

@@ -9,7 +9,7 @@ packages=(
   libopencolorio-dev opencolorio-tools
   libopenexr-dev libimath-dev openexr
   libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
-  nlohmann-json3-dev libeigen3-dev
+  nlohmann-json3-dev libeigen3-dev liblcms2-dev
   clang-format
   fonts-dejavu-core
   slurmctld slurmd slurm-client munge

@@ -14,6 +14,13 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// An Error caused by the OCIO config itself (a missing role, colour space or XYZ route), not
+/// by a value on the command line: option wrappers pass it on without naming an option.
+class ConfigError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// A value given by a user, quoted for a message and shortened to `limit` characters (whole
 /// UTF-8 characters), so that a megabyte of garbage is not echoed back. Cost: O(limit).
 inline std::string quote(std::string_view value, std::size_t limit = 80) {

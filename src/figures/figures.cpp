@@ -143,7 +143,8 @@ void plot_spectrum(const Stage& s, const std::string& file, const std::string& t
     ++colour;
   }
   if (light) plot.notes.push_back("swatch scaled to display white");
-  write_plot(plot, path_in(s, file));
+  for (const std::string& w : write_plot(plot, path_in(s, file), plot_spaces(s.spaces)))
+    fmt::print(s.out, "{}: {}\n", file, w);
 }
 
 }  // namespace

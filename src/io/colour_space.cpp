@@ -33,24 +33,35 @@ struct XyzRoute {
   bool via_ap0 = false;  // then OCIO's built-in AP0 -> XYZ-D65 (Bradford)
 };
 
-XyzRoute xyz_route_of(const ConfigPtr& config) {
+// The names a CIE-XYZ-D65 space, or an ACES2065-1 space (role first), goes by in known configs.
+constexpr const char* kXyzNames[] = {"CIE-XYZ-D65", "CIE XYZ-D65 - Scene-referred", "cie_xyz_d65"};
+constexpr const char* kAp0Names[] = {"aces_interchange", "ACES2065-1", "ACES - ACES2065-1",
+                                     "aces2065_1", "lin_ap0"};
+
+XyzRoute xyz_route_of(const ConfigPtr& config, const std::string& origin) {
   if (config->hasRole("cie_xyz_d65_interchange")) {
     auto cs = config->getColorSpace("cie_xyz_d65_interchange");
     if (cs) return {cs->getName(), false};
   }
-  for (const char* name : {"CIE-XYZ-D65", "CIE XYZ-D65 - Scene-referred", "cie_xyz_d65"}) {
+  for (const char* name : kXyzNames) {
     auto cs = config->getColorSpace(name);
     if (cs) return {cs->getName(), false};
   }
   // Derived from the config's ACES2065-1 space where it has one (OCIO knows AP0 exactly).
-  for (const char* name :
-       {"aces_interchange", "ACES2065-1", "ACES - ACES2065-1", "aces2065_1", "lin_ap0"}) {
+  for (const char* name : kAp0Names) {
     auto cs = config->getColorSpace(name);
     if (cs && !cs->isData()) return {cs->getName(), true};
   }
-  throw Error(
-      "the OCIO config has no CIE-XYZ-D65 colour space, no cie_xyz_d65_interchange role and no "
-      "ACES2065-1 space to derive CIE XYZ from; add one of them to the config");
+  std::string xyz, ap0;
+  for (const char* name : kXyzNames) xyz += (xyz.empty() ? "'" : ", '") + std::string(name) + "'";
+  for (const char* name : kAp0Names)
+    if (std::string_view(name) != "aces_interchange")
+      ap0 += (ap0.empty() ? "'" : ", '") + std::string(name) + "'";
+  throw ConfigError("the OCIO config '" + origin +
+                    "' has no route to CIE XYZ (D65): it lacks the roles "
+                    "cie_xyz_d65_interchange and aces_interchange and has no colour space named " +
+                    xyz + " (CIE XYZ) or " + ap0 +
+                    " (ACES2065-1); add one of these roles or spaces to the config");
 }
 
 }  // namespace
@@ -167,7 +178,7 @@ ColourTransform ColourSpaces::transform(std::string_view space, bool to_xyz) con
   ColourTransform t;
   t.source_ = resolve(space);
   try {
-    const XyzRoute route = xyz_route_of(config);
+    const XyzRoute route = xyz_route_of(config, origin_);
     auto group = OCIO::GroupTransform::Create();
     auto convert = OCIO::ColorSpaceTransform::Create();
     convert->setSrc(to_xyz ? t.source_.c_str() : route.space.c_str());
@@ -213,7 +224,7 @@ ColourTransform ColourSpaces::display_from_xyz(const std::string& display,
                 ")");
   t.source_ = display + " / " + v;
   try {
-    const XyzRoute route = xyz_route_of(config);
+    const XyzRoute route = xyz_route_of(config, origin_);
     auto group = OCIO::GroupTransform::Create();
     if (route.via_ap0) {
       auto ap0 = OCIO::BuiltinTransform::Create();
@@ -251,6 +262,23 @@ std::string ColourSpaces::role(std::string_view role) const {
   if (!config->hasRole(r.c_str())) return "";
   auto cs = config->getColorSpace(r.c_str());
   return cs ? cs->getName() : "";
+}
+
+std::string ColourSpaces::role_or_name(std::initializer_list<std::string_view> roles,
+                                       std::initializer_list<std::string_view> names,
+                                       std::string_view purpose) const {
+  for (std::string_view r : roles)
+    if (std::string space = role(r); !space.empty()) return space;
+  const ConfigPtr& config = config_of(config_);
+  for (std::string_view n : names)
+    if (auto cs = config->getColorSpace(std::string(n).c_str())) return cs->getName();
+  std::string missing;
+  std::size_t i = 0;
+  for (std::string_view r : roles)
+    missing += (i++ == 0 ? "" : i == roles.size() ? " or " : ", ") + std::string(r);
+  throw ConfigError("the OCIO config '" + origin_ + "' has no " + missing + " role" +
+                    (names.size() ? " (nor a space named " + quote(*names.begin()) + ")" : "") +
+                    " for " + std::string(purpose) + "; add the role to the config");
 }
 
 std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& path) const {
@@ -355,6 +383,30 @@ std::optional<std::array<float, 8>> ColourSpaces::chromaticities(std::string_vie
   for (const KnownSpace& k : kKnown)
     if (same_xy(k.adapted, derived->data())) return k.native;
   return derived;
+}
+
+std::optional<IccTransfer> ColourSpaces::transfer(std::string_view space) const {
+  if (is_data(space) || !derived_chromaticities(space)) return std::nullopt;
+  // Greys keep the white's chromaticity, so Y(v) / Y(1) is the transfer function at v.
+  const ColourTransform t = to_xyz(space);
+  const double white = t(1, 1, 1).Y;
+  if (!(std::abs(white) > 1e-12)) return std::nullopt;
+  auto matches = [&](auto&& curve) {
+    for (double v : {0.01, 0.03, 0.1, 0.3, 0.5, 0.8}) {
+      const double want = curve(v), got = t(v, v, v).Y / white;
+      // OCIO's CPU path computes powers to ~1e-4; 563/256 and 2.2 still differ by 4e-3 at 0.01.
+      if (!(std::abs(got - want) <= 1e-3 * want + 1e-6)) return false;
+    }
+    return true;
+  };
+  if (matches([](double v) { return v; })) return IccTransfer{IccTransfer::linear, 1};
+  if (matches(
+          [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }))
+    return IccTransfer{IccTransfer::srgb, 2.4};
+  for (double g : {563.0 / 256, 2.2, 2.4, 1.8, 2.6})
+    if (matches([g](double v) { return std::pow(v, g); }))
+      return IccTransfer{IccTransfer::gamma, g};
+  return std::nullopt;
 }
 
 std::string ColourSpaces::interop_id(std::string_view space) const {

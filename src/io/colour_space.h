@@ -3,6 +3,7 @@
 // headers stay in colour_space.cpp; callers see only names and float RGB.
 
 #include <array>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/xyz.h"
+#include "io/icc_profile.h"
 
 namespace spectralize {
 
@@ -45,6 +47,12 @@ class ColourSpaces {
   /// The canonical name of the space a role names, or "" when the config has no such role.
   /// Cost: O(1).
   std::string role(std::string_view role) const;
+  /// The canonical name of the space of the first of `roles` the config has, else of the first
+  /// of `names` (the shipped config's, for configs without those roles) it knows; throws
+  /// ConfigError naming the config, the missing roles and `purpose`. Cost: O(roles + names).
+  std::string role_or_name(std::initializer_list<std::string_view> roles,
+                           std::initializer_list<std::string_view> names,
+                           std::string_view purpose) const;
   /// The space the config's file rules give `path` and the rule's name, or {"", ""} when only
   /// the default rule matches. Cost: O(rules).
   std::pair<std::string, std::string> file_rule(const std::string& path) const;
@@ -58,6 +66,10 @@ class ColourSpaces {
   /// white), else derived through OCIO (in the config's reference white); nullopt for data.
   /// Cost: an OCIO processor.
   std::optional<std::array<float, 8>> chromaticities(std::string_view space) const;
+  /// The space's transfer function when it is one an ICC profile states exactly: linear, the
+  /// sRGB curve or a pure gamma (2.2, 563/256, 2.4, 1.8, 2.6), measured on greys through OCIO;
+  /// nullopt otherwise (log, PQ, data). Cost: an OCIO processor.
+  std::optional<IccTransfer> transfer(std::string_view space) const;
   /// The colour interop ID (e.g. "lin_ap1_scene") of a space whose primaries, white and
   /// encoding match a known one, or "". Cost: an OCIO processor.
   std::string interop_id(std::string_view space) const;

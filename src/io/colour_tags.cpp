@@ -1,5 +1,8 @@
 #include "io/colour_tags.h"
 
+#include "io/icc_profile.h"
+#include "io/safe_output.h"
+
 namespace spectralize {
 
 void drop_colour_tags(OIIO::ImageSpec& spec) {
@@ -9,14 +12,47 @@ void drop_colour_tags(OIIO::ImageSpec& spec) {
     spec.erase_attribute(name);
 }
 
-void tag_colour_space(OIIO::ImageSpec& spec, const ColourSpaces& spaces, const std::string& space) {
+std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpaces& spaces,
+                                          const std::string& space, const std::string& format,
+                                          const std::string& file) {
   drop_colour_tags(spec);
   spec.attribute("oiio:ColorSpace", space);
   const std::string id = spaces.interop_id(space);
   if (!id.empty()) spec.attribute("colorInteropID", id);
-  if (!spaces.is_data(space) && spaces.is_linear(space))
-    if (const auto xy = spaces.chromaticities(space))
-      spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy->data());
+  const bool data = spaces.is_data(space);
+  // Chromaticities describe the primaries and white whatever the transfer (sRGB - Texture
+  // has Rec.709's).
+  const auto xy = data ? std::nullopt : spaces.chromaticities(space);
+  if (xy) spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy->data());
+  std::vector<std::string> warnings;
+  if (data || format == "openexr") return warnings;
+  const std::string where = "'" + clip(file, 200) + "': ";
+  if (format == "hdr") {
+    // RGBE says only "linear"; readers take Rec.709 primaries and a D65 white.
+    if (id != "lin_rec709_scene")
+      warnings.push_back(where + "Radiance HDR has no slot for the colour space '" + space +
+                         "'; readers will assume linear Rec.709 (sRGB primaries): write "
+                         "OpenEXR, or --colorspace a linear Rec.709 space");
+    return warnings;
+  }
+  if (format != "tiff" && format != "png" && format != "jpeg") {
+    if (id == "srgb_rec709_scene") return warnings;  // what readers assume anyway
+    warnings.push_back(where + "the " + format + " format has no slot for the colour space '" +
+                       space + "'; readers will assume sRGB: write OpenEXR, TIFF, PNG or JPEG");
+    return warnings;
+  }
+  const auto transfer = spaces.transfer(space);
+  std::vector<unsigned char> icc;
+  if (xy && transfer)
+    icc = icc_profile(*xy, *transfer, id.empty() ? space : space + " (" + id + ")");
+  if (icc.empty()) {
+    warnings.push_back(where + "no ICC profile states the colour space '" + space +
+                       "' (its transfer function is not linear, the sRGB curve or a pure gamma, "
+                       "or it has no RGB primaries); readers will assume sRGB");
+    return warnings;
+  }
+  spec.attribute("ICCProfile", OIIO::TypeDesc(OIIO::TypeDesc::UINT8, icc.size()), icc.data());
+  return warnings;
 }
 
 }  // namespace spectralize

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "io/colour_space.h"
+#include "io/colour_tags.h"
 #include "io/exr_scanline_writer.h"
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
@@ -290,7 +291,14 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   std::string date_warning;
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
-  const OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
+  OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
+  // The tags this format can hold (an ICC profile for TIFF, PNG, JPEG), or a warning.
+  if (const std::string written = ospec.get_string_attribute("oiio:ColorSpace"); !written.empty())
+    for (const std::string& w : tag_colour_space(ospec, spaces, written, rep.output_format, output))
+      warn(w);
+  else
+    warn("'" + output + "': the OCIO view '" + settings.display + " / " + settings.view +
+         "' names no colour space in the config; the file carries no colour tag");
   if (settings.integer_bits != 0 && settings.display.empty() &&
       spaces.is_linear(settings.colorspace))
     warn("'" + output + "': linear '" + settings.colorspace + "' in " +

@@ -132,8 +132,12 @@ std::pair<std::string, std::string> metadata_space(const std::string& file,
       return false;
     };
     std::string space;
-    if (one_of({"srgb", "srgb iec61966-2.1", "srgb iec61966-2-1", "srgb built-in",
-                "srgb iec61966-2.1 (equivalent)", "srgb profile"}))
+    // spectralize's own profiles end in the space's interop ID: "ACEScg (lin_ap1_scene)".
+    if (const std::size_t open = desc.rfind(" ("); open != std::string::npos && desc.back() == ')')
+      space = find_space(spaces, desc.substr(open + 2, desc.size() - open - 3), {});
+    if (!space.empty()) {
+    } else if (one_of({"srgb", "srgb iec61966-2.1", "srgb iec61966-2-1", "srgb built-in",
+                       "srgb iec61966-2.1 (equivalent)", "srgb profile"}))
       space = find_space(spaces, "srgb_rec709_scene", {"sRGB - Texture", "srgb_tx"});
     else if (one_of({"adobe rgb (1998)", "adobergb1998", "compatible with adobe rgb (1998)",
                      "adobe rgb"}))
@@ -275,7 +279,7 @@ std::pair<std::string, std::string> default_colour_space(const ColourSpaces& spa
     const std::string space = spaces.role(role);
     if (!space.empty()) return {space, std::string("the config's ") + role + " role"};
   }
-  throw Error(
+  throw ConfigError(
       "the OCIO config '" + spaces.origin() + "' has no " +
       (float_data ? "scene_linear role" : "matte_paint, color_picking or texture_paint role") +
       " to choose a default colour space: give --colorspace");

@@ -13,11 +13,14 @@ namespace spectralize {
 
 namespace {
 
-// Runs fn, prefixing an Error's message with the option's name.
+// Runs fn, prefixing an Error's message with the option's name (not a ConfigError's: the
+// config is at fault, not the option).
 template <class Fn>
 auto named(const std::string& name, Fn&& fn) {
   try {
     return fn();
+  } catch (const ConfigError&) {
+    throw;
   } catch (const Error& e) {
     throw Error(name + ": " + e.what());
   }

@@ -395,6 +395,8 @@ void apply_setting(Settings& settings, const SettingSpec& spec, std::string_view
     throw Error(std::string(where) + ": an empty value (give a value or leave the option out)");
   try {
     spec.parse(settings, text);
+  } catch (const ConfigError&) {
+    throw;  // the config's fault, not the option's
   } catch (const Error& e) {
     throw Error(std::string(where) + ": " + e.what());
   }

@@ -19,6 +19,8 @@
 #include <utility>
 
 #include "core/error.h"
+#include "io/colour_space.h"
+#include "io/colour_tags.h"
 #include "io/image_file_output.h"
 #include "io/safe_output.h"
 
@@ -292,11 +294,6 @@ class RasterPainter final : public Painter {
   std::string font_;
 };
 
-// sRGB-encoded to linear (IEC 61966-2-1), for file formats whose convention is linear light.
-float srgb_to_linear(float v) {
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -406,6 +403,16 @@ PlotColour plot_palette(std::size_t i) {
   return {c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f};
 }
 
+PlotSpaces plot_spaces(const ColourSpaces& spaces) {
+  PlotSpaces cs;
+  cs.spaces = &spaces;
+  cs.encoded = spaces.role_or_name({"color_picking", "matte_paint"}, {"sRGB - Texture"},
+                                   "the display-referred colours of a plot");
+  cs.linear =
+      spaces.role_or_name({"scene_linear"}, {kDefaultColourSpace}, "the linear light of a plot");
+  return cs;
+}
+
 bool is_plot_path(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".svg") return true;
@@ -418,8 +425,8 @@ bool is_plot_path(const std::string& path) {
   return true;
 }
 
-void write_raster(const SpectrumPlot& plot, const std::string& path,
-                  std::span<const std::string> inputs) {
+std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::string& path,
+                                      const PlotSpaces& cs, std::span<const std::string> inputs) {
   const std::string font = find_font();
   if (font.empty())
     throw Error("'" + path +
@@ -444,26 +451,32 @@ void write_raster(const SpectrumPlot& plot, const std::string& path,
       big, "box", 1.0f, OIIO::ROI(0, kPlotWidth, 0, kPlotHeight, 0, 1, 0, 3));
   if (small.has_error()) throw Error("'" + path + "': cannot filter the plot: " + small.geterror());
 
-  // Display sRGB for 8-bit formats; linear light for OpenEXR and Radiance HDR.
+  // The drawing's encoded space for 8-bit formats; the linear space for OpenEXR and Radiance
+  // HDR, whose convention is linear light (converted by OCIO).
   OIIO::TypeDesc type = OIIO::TypeUInt8;
+  std::string space = cs.encoded;
   if (format == "openexr" || format == "hdr") {
     type = format == "openexr" ? OIIO::TypeHalf : OIIO::TypeFloat;
-    // The iterator's buffer type must be the buffer's own: the drawing is HALF, so make a
-    // float copy first (found by UBSan: HALF data read as float).
+    space = cs.linear;
     OIIO::ImageBuf linear;
     linear.copy(small, OIIO::TypeFloat);
     small = std::move(linear);
-    for (OIIO::ImageBuf::Iterator<float> it(small); !it.done(); ++it)
-      for (int ch = 0; ch < 3; ++ch) it[ch] = srgb_to_linear(std::clamp(float(it[ch]), 0.0f, 1.0f));
-  } else {
-    small.specmod().attribute("oiio:ColorSpace", "sRGB");
+    std::vector<float> rgb(static_cast<std::size_t>(kPlotWidth) * kPlotHeight * 3);
+    small.get_pixels(OIIO::ROI::All(), OIIO::TypeFloat, rgb.data());
+    for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
+    cs.spaces->to_xyz(cs.encoded).apply(rgb.data(), rgb.size() / 3);
+    cs.spaces->from_xyz(cs.linear).apply(rgb.data(), rgb.size() / 3);
+    small.set_pixels(OIIO::ROI::All(), OIIO::TypeFloat, rgb.data());
   }
+  std::vector<std::string> warnings =
+      tag_colour_space(small.specmod(), *cs.spaces, space, format, path);
   small.specmod().attribute("Software", "spectralize " SPECTRALIZE_VERSION);
   write_image_file(small, path, type, inputs);
+  return warnings;
 }
 
-void write_svg(const SpectrumPlot& plot, const std::string& path,
-               std::span<const std::string> inputs) {
+std::vector<std::string> write_svg(const SpectrumPlot& plot, const std::string& path,
+                                   const PlotSpaces& cs, std::span<const std::string> inputs) {
   SvgPainter painter;
   draw(plot, painter);
   std::string title;
@@ -478,14 +491,18 @@ void write_svg(const SpectrumPlot& plot, const std::string& path,
   AtomicOutput file(path, inputs, /*allow_stream=*/true);
   file.write(svg);
   file.commit();
+  std::vector<std::string> warnings;
+  if (cs.spaces->interop_id(cs.encoded) != "srgb_rec709_scene")
+    warnings.push_back("'" + clip(path, 200) +
+                       "': SVG colours are sRGB, but the plot's colours are in '" + cs.encoded +
+                       "' (the config's display-referred role): they will look wrong");
+  return warnings;
 }
 
-void write_plot(const SpectrumPlot& plot, const std::string& path,
-                std::span<const std::string> inputs) {
-  if (lower_extension(path) == ".svg")
-    write_svg(plot, path, inputs);
-  else
-    write_raster(plot, path, inputs);
+std::vector<std::string> write_plot(const SpectrumPlot& plot, const std::string& path,
+                                    const PlotSpaces& cs, std::span<const std::string> inputs) {
+  if (lower_extension(path) == ".svg") return write_svg(plot, path, cs, inputs);
+  return write_raster(plot, path, cs, inputs);
 }
 
 }  // namespace spectralize

@@ -10,7 +10,10 @@
 
 namespace spectralize {
 
-/// A colour on the display: sRGB-encoded components, clipped to [0, 1] when drawn.
+class ColourSpaces;
+
+/// A colour on the display: components encoded in the plot's display-referred space
+/// (PlotSpaces::encoded), clipped to [0, 1] when drawn.
 struct PlotColour {
   float r = 0, g = 0, b = 0;
 };
@@ -36,6 +39,19 @@ struct SpectrumPlot {
   std::vector<std::string> notes;          // small lines under the legend
 };
 
+/// The colour spaces of a plot, from the OCIO config's roles: `encoded`, the display-referred
+/// space its colours are drawn in (8-bit formats, SVG), and `linear`, the one OpenEXR and
+/// Radiance HDR plots are written in.
+struct PlotSpaces {
+  const ColourSpaces* spaces = nullptr;
+  std::string encoded, linear;
+};
+
+/// The plot's spaces in `spaces`: the color_picking role, else matte_paint (the shipped
+/// 'sRGB - Texture' only for configs without either), and scene_linear (else the shipped
+/// 'Linear Rec.709 (sRGB)'); throws ConfigError naming the missing role. Cost: O(spaces).
+PlotSpaces plot_spaces(const ColourSpaces& spaces);
+
 /// Size of every plot, raster (pixels) and SVG (user units).
 inline constexpr int kPlotWidth = 1000;
 inline constexpr int kPlotHeight = 600;
@@ -50,20 +66,24 @@ PlotColour plot_palette(std::size_t i);
 bool is_plot_path(const std::string& path);
 
 /// Draws the plot with ImageBufAlgo (supersampled, then filtered down) and writes it in the
-/// format of `path`'s extension: 8-bit display sRGB, or linear half for OpenEXR / float for
-/// Radiance HDR. Needs a TrueType font (DejaVu Sans); throws Error naming the file and the
-/// reason. Written through io/safe_output.h (never over one of `inputs`). Cost: ~0.2 s, ~40 MB.
-void write_raster(const SpectrumPlot& plot, const std::string& path,
-                  std::span<const std::string> inputs = {});
+/// format of `path`'s extension: 8-bit in `cs.encoded`, or `cs.linear` (converted by OCIO) in
+/// half for OpenEXR / float for Radiance HDR, tagged as io/colour_tags.h says; returns its
+/// warnings (a format that cannot say the space). Needs a TrueType font (DejaVu Sans); throws
+/// Error naming the file and the reason. Written through io/safe_output.h (never over one of
+/// `inputs`). Cost: ~0.2 s, ~40 MB.
+std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::string& path,
+                                      const PlotSpaces& cs,
+                                      std::span<const std::string> inputs = {});
 
 /// Writes the plot as SVG text (one <polyline> per curve, one point per sample), through
-/// io/safe_output.h (a stream such as /dev/stdout is written in place). Throws Error naming the
-/// file and the reason. Cost: O(samples), ~ms.
-void write_svg(const SpectrumPlot& plot, const std::string& path,
-               std::span<const std::string> inputs = {});
+/// io/safe_output.h (a stream such as /dev/stdout is written in place). SVG colours are sRGB:
+/// returns a warning when `cs.encoded` is not. Throws Error naming the file and the reason.
+/// Cost: O(samples), ~ms.
+std::vector<std::string> write_svg(const SpectrumPlot& plot, const std::string& path,
+                                   const PlotSpaces& cs, std::span<const std::string> inputs = {});
 
-/// write_svg for ".svg" paths, write_raster otherwise. Cost: theirs.
-void write_plot(const SpectrumPlot& plot, const std::string& path,
-                std::span<const std::string> inputs = {});
+/// write_svg for ".svg" paths, write_raster otherwise; returns their warnings. Cost: theirs.
+std::vector<std::string> write_plot(const SpectrumPlot& plot, const std::string& path,
+                                    const PlotSpaces& cs, std::span<const std::string> inputs = {});
 
 }  // namespace spectralize

@@ -13,12 +13,14 @@
 
 namespace spectralize::tool {
 
-/// Runs `fn`, turning the core's configuration errors into usage errors naming the flag.
-/// Cost: that of fn.
+/// Runs `fn`, turning the core's configuration errors into usage errors naming the flag; a
+/// ConfigError (the OCIO config's own fault) passes unchanged. Cost: that of fn.
 template <typename Fn>
 auto flag_value(const char* flag, Fn&& fn) {
   try {
     return fn();
+  } catch (const ConfigError&) {
+    throw;  // the config's fault, not the flag's
   } catch (const Error& e) {
     throw UsageError{std::string(flag) + ": " + e.what()};
   }

@@ -28,29 +28,15 @@ namespace spectralize::tool {
 
 namespace {
 
-// Display colours of the swatches: CIE XYZ (D65) -> the config's sRGB display encoding by OCIO.
-// Colours brighter than display white (HDR lights) are scaled down first, by the factor that
-// brings the input's largest linear Rec.709 component to 1, the same for both swatches of a
+// Display colours of the swatches: CIE XYZ (D65) -> the config's display-referred space
+// (io/spectrum_plot.h's PlotSpaces: its roles, not fixed names) by OCIO. Colours brighter than
+// display white (HDR lights) are scaled down first, by the factor that brings the colour's
+// largest component in the config's scene_linear space to 1, the same for both swatches of a
 // curve so they stay comparable.
-// The first of `names` the config knows (the shipped config has them all).
-std::string pick_space(const ColourSpaces& spaces, std::initializer_list<std::string> names) {
-  for (const auto& name : names) {
-    try {
-      return spaces.resolve(name);
-    } catch (const Error&) {
-    }
-  }
-  throw Error("the OCIO config '" + spaces.origin() + "' has no '" + *names.begin() +
-              "' colour space for the plot's swatches");
-}
-
 class SwatchColours {
  public:
-  explicit SwatchColours(const ColourSpaces& spaces)
-      : display_(spaces.from_xyz(pick_space(
-            spaces, {"sRGB - Texture", "sRGB", "srgb_tx", "sRGB Encoded Rec.709 (sRGB)"}))),
-        linear_(spaces.from_xyz(pick_space(
-            spaces, {std::string(kDefaultColourSpace), "lin_srgb", "Utility - Linear - sRGB"}))) {}
+  explicit SwatchColours(const PlotSpaces& cs)
+      : display_(cs.spaces->from_xyz(cs.encoded)), linear_(cs.spaces->from_xyz(cs.linear)) {}
 
   /// The factor (<= 1) that fits `xyz` into the display's range. Cost: O(1) + OCIO.
   double exposure(const Xyz& xyz) const {
@@ -60,7 +46,7 @@ class SwatchColours {
     const double m = std::max({rgb[0], rgb[1], rgb[2]});
     return std::isfinite(m) && m > 1 ? 1 / m : 1;
   }
-  /// `xyz` times `k` as display sRGB, clipped to [0, 1]. Cost: O(1) + OCIO.
+  /// `xyz` times `k` in the display-referred space, clipped to [0, 1]. Cost: O(1) + OCIO.
   PlotColour operator()(const Xyz& xyz, double k) const {
     float rgb[3] = {static_cast<float>(k * xyz.X), static_cast<float>(k * xyz.Y),
                     static_cast<float>(k * xyz.Z)};
@@ -151,6 +137,11 @@ std::string plot_csv(const SpectrumPlot& plot) {
   return text;
 }
 
+// The plot writer's warnings (a format that cannot say the plot's colour space), on stderr.
+void warn(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) fmt::print(stderr, "spectralize WARNING: {}\n", w);
+}
+
 void report(const Options& opt, const SpectrumPlot& plot) {
   if (opt.verbosity > 0)
     fmt::print(stderr, "spectralize: '{}': plot of {} spectr{}, {} samples, {}x{}\n", opt.output,
@@ -168,7 +159,8 @@ int run_plot_color(const Options& opt) {
                                  opt.colors.size())};
   const ColourInputs in = colour_inputs(opt);
   const auto& [settings, colours, spaces, to_xyz] = in;
-  const SwatchColours swatch(spaces);
+  const PlotSpaces cs = plot_spaces(spaces);
+  const SwatchColours swatch(cs);
 
   Spectralizer spectralizer(settings);
   // The spectrum's XYZ is in the target's terms; a reflectance's target is white balanced to
@@ -212,10 +204,10 @@ int run_plot_color(const Options& opt) {
                                     : fmt::format("Spectra of {} colours", colours.size()),
                 settings_line(to_xyz.source(), opt, spectralizer)};
   if (colours.size() == 1) plot.title.push_back(results[0]);
-  plot.notes.push_back("swatches: display sRGB via OCIO");
+  plot.notes.push_back("swatches: " + cs.encoded + " via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
   apply_scale(opt, plot);
-  write_plot(plot, opt.output);
+  warn(write_plot(plot, opt.output, cs));
   report(opt, plot);
   return status;
 }
@@ -242,7 +234,8 @@ int run_plot_pixel(const Options& opt) {
   const std::string& observer = opt.settings.spectral.observer;
   const std::string& illuminant = opt.settings.spectral.illuminant;
   const ColourSpaces spaces = load_config(opt);
-  const SwatchColours swatch(spaces);
+  const PlotSpaces cs = plot_spaces(spaces);
+  const SwatchColours swatch(cs);
 
   // Open the file (scanline, tiled or MIP-mapped: level 0); never write over it.
   const std::string& file = opt.inputs[0];
@@ -250,8 +243,7 @@ int run_plot_pixel(const Options& opt) {
   const OIIO::ImageSpec& spec = in.spec();
   const SpectralLayoutInfo layout = analyse_spectral_layout(spec, file);
   Settings rgb_settings = opt.settings;
-  rgb_settings.colorspace =
-      pick_space(spaces, {std::string(kDefaultColourSpace), "lin_srgb", "Utility - Linear - sRGB"});
+  rgb_settings.colorspace = cs.linear;
   const std::string& linear = rgb_settings.colorspace;
   const RgbFromSpectral to_rgb(layout, rgb_settings, spaces);
   const ColourTransform rgb_to_xyz = spaces.to_xyz(linear);
@@ -293,8 +285,8 @@ int run_plot_pixel(const Options& opt) {
                  "drawn as 0\n",
                  file, x, y, bad);
     curve.colour = plot_palette(i);
-    // The swatches: the file's own RGB (linear Rec.709 by EXR convention) and the spectrum
-    // integrated as --to-rgb does.
+    // The swatches: the file's own RGB (its previews, in the config's scene_linear space as
+    // spectralize writes them by default) and the spectrum integrated as --to-rgb does.
     float rgb[4] = {0, 0, 0, 0};
     to_rgb.convert(px, spec.nchannels, 1, rgb, OIIO::TypeFloat);
     const Xyz from_spectrum = rgb_to_xyz(rgb[0], rgb[1], rgb[2]);
@@ -316,9 +308,9 @@ int run_plot_pixel(const Options& opt) {
                   layout.emissive ? "emissive" : "reflective", layout.emissive ? "S0" : "T",
                   layout.wavelengths.size(), layout.wavelengths.front(), layout.wavelengths.back(),
                   layout.polarised ? " | polarised (S0 shown, S1-S3 ignored)" : ""));
-  plot.title.push_back(fmt::format("swatches: {}{} -> display sRGB", observer,
-                                   layout.emissive ? "" : " under " + illuminant));
-  plot.notes.push_back("swatches: display sRGB via OCIO");
+  plot.title.push_back(fmt::format("swatches: {}{} -> {}", observer,
+                                   layout.emissive ? "" : " under " + illuminant, cs.encoded));
+  plot.notes.push_back("swatches: " + cs.encoded + " via OCIO");
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
   apply_scale(opt, plot);
   if (csv) {
@@ -327,7 +319,7 @@ int run_plot_pixel(const Options& opt) {
     out.commit();
     return kExitOk;
   }
-  write_plot(plot, opt.output, std::span<const std::string>(&file, 1));
+  warn(write_plot(plot, opt.output, cs, std::span<const std::string>(&file, 1)));
   report(opt, plot);
   return kExitOk;
 }

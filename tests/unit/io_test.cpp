@@ -174,12 +174,22 @@ TEST(ColourTags, KnownSpacesGetTheirStandardsPrimariesAndIds) {
   tag_colour_space(spec, spaces, "Linear Rec.2020");
   EXPECT_EQ(spec.get_string_attribute("colorInteropID"), "lin_rec2020_scene");
   EXPECT_EQ(spec.find_attribute("ICCProfile:device_class"), nullptr);
-  const auto* c = spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
+  const OIIO::ParamValue* c =
+      spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
   ASSERT_TRUE(c);
   EXPECT_NEAR(static_cast<const float*>(c->data())[0], 0.708f, 1e-5);
-  // An encoded space has no chromaticities attribute (EXR's convention is linear light).
+  // An encoded space has its primaries' chromaticities too (they say nothing of the transfer).
   tag_colour_space(spec, spaces, "sRGB - Texture");
-  EXPECT_EQ(spec.find_attribute("chromaticities"), nullptr);
+  c = spec.find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(static_cast<const float*>(c->data())[0], 0.64f, 1e-5);
+  // Transfer functions an ICC curve states, measured through OCIO.
+  EXPECT_EQ(spaces.transfer("sRGB - Texture")->kind, IccTransfer::srgb);
+  EXPECT_EQ(spaces.transfer("ACEScg")->kind, IccTransfer::linear);
+  EXPECT_EQ(spaces.transfer("Gamma 2.2 Rec.709 - Texture")->exponent, 2.2);
+  EXPECT_EQ(spaces.transfer("Adobe RGB (1998) - Texture")->exponent, 563.0 / 256);
+  EXPECT_FALSE(spaces.transfer("ACEScct"));
+  EXPECT_FALSE(spaces.transfer("Raw"));
 }
 
 // --- Spectral layouts of other tools ---
