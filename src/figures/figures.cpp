@@ -209,8 +209,7 @@ std::vector<SphereFigure> make_figures(const std::string& outdir, std::ostream& 
   const Observer& observer = Observer::get(surface_settings.observer);
   const Illuminant d65 = Illuminant::get("D65");
   const Xyz d65_white = SampleWeights(surface_settings.grid, observer, &d65).unit_white();
-  const Xyz calibration{kWhiteD65.X / d65_white.X, kWhiteD65.Y / d65_white.Y,
-                        kWhiteD65.Z / d65_white.Z};
+  const Xyz calibration = balance_to_d65(d65_white);
   const struct {
     const char* name;
     const char* light;

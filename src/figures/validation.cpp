@@ -93,8 +93,7 @@ PatchResult run_patch(const Spectralizer& sp, const ColourTransform& to_xyz,
   // The patch's colour as an RGB texture holds it: under D65, relative to the reflected white
   // (the paper's eq. 6), in the space; clipped to [0, 1] when outside.
   const Xyz measured = d65.weights.integrate(patch.rho);
-  const Xyz balanced = hadamard(measured, Xyz{kWhiteD65.X / d65.white.X, kWhiteD65.Y / d65.white.Y,
-                                              kWhiteD65.Z / d65.white.Z});
+  const Xyz balanced = hadamard(measured, balance_to_d65(d65.white));
   Xyz rgb = from_xyz(balanced.X, balanced.Y, balanced.Z);
   for (int c = 0; c < 3; ++c) {
     const double clipped = std::clamp(rgb[c], 0.0, 1.0);
@@ -185,8 +184,7 @@ RgbBaseline rgb_baseline(const std::string& space, const std::string& set,
                          const ColourTransform& to_xyz, const ColourTransform& from_xyz,
                          const std::vector<Patch>& patches, const Viewing& d65, const Viewing& a,
                          const Viewing& f11) {
-  const Xyz calibration{kWhiteD65.X / d65.white.X, kWhiteD65.Y / d65.white.Y,
-                        kWhiteD65.Z / d65.white.Z};
+  const Xyz calibration = balance_to_d65(d65.white);
   RgbBaseline b;
   b.space = space;
   b.set = set;

@@ -76,12 +76,15 @@ Settings checked_to_rgb_settings(Settings s, const std::string& output, bool for
   if (!s.display.empty())
     named(names("display"), [&] { return spaces.display_from_xyz(s.display, s.view); });
   // Files that store integers are display-referred: an encoded space and 8 bits by default.
+  // TIFF holds either: integers unless half or float is asked for.
   const std::string ext = lower_extension(output);
-  const bool integer_file = ext != ".exr" && ext != ".hdr" && ext != ".pfm";
+  const bool float_file = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+  const bool tiff = ext == ".tif" || ext == ".tiff";
+  const bool integer_file = !float_file && !(tiff && format_given && s.integer_bits == 0);
   if (integer_file && !format_given) s.integer_bits = 8;
   if (integer_file && s.integer_bits == 0)
     throw Error(names.output + " '" + clip(output) + "': " + names("format") +
-                " uint8 or uint16 for this file type");
+                " uint8 or uint16 for this file type (half and float: .exr, .tif, .hdr, .pfm)");
   if (s.colorspace.empty() && s.display.empty())
     s.colorspace = default_colour_space(spaces, !integer_file).first;
   return s;

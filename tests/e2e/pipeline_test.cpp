@@ -264,6 +264,17 @@ TEST(Pipeline, ToRgbWritesAnyFormatDisplayAndAsLit) {
             0);
   const e2e::Exr b = e2e::read_exr(s / "b.exr");
   EXPECT_NEAR(b.at(63, 3, 0), b.at(63, 3, 2), 1e-3);
+  // Float TIFF: the same samples as the float EXR (scene-linear by default, as for EXR).
+  ASSERT_EQ(run("--to-rgb " + (s / "grey.exr") + " -o " + (s / "f.tif") +
+                " --illuminant A --format float -q")
+                .exit_code,
+            0);
+  const e2e::Exr f = e2e::read_exr(s / "f.tif");
+  ASSERT_EQ(f.pixels.size(), b.pixels.size());
+  EXPECT_EQ(f.pixels, b.pixels);
+  EXPECT_EQ(
+      run("--to-rgb " + (s / "grey.exr") + " -o " + (s / "f.png") + " --format float -q").exit_code,
+      2);
   // A display and view of the config.
   r = run("--to-rgb " + (s / "grey.exr") + " -o " + (s / "d.tif") +
           " --display sRGB --view Standard -q");
