@@ -81,6 +81,7 @@ docs-figures: figures
 	  oiiotool --nosoftwareattrib $$f --resize 256x0 -o docs/figures/$$(basename $$f); done
 
 bench: deps build
+	@cmake --build $(BUILD_DIR) --target benchmarks -j $(JOBS)
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
 	@$(BUILD_DIR)/tests/bench/model_study 10000
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
