@@ -129,8 +129,8 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   Sink sink(format, ospec, file, threads);
   const std::size_t width = static_cast<std::size_t>(spec.width);
   const std::size_t sample = sink.type().size();
-  const int strip = strip_rows(spec.height, sink.block_rows(), in.tile_height(),
-                               width * out_nch * sample, worker_count(threads));
+  const int strip =
+      strip_rows(spec.height, sink.block_rows(), width * out_nch * sample, worker_count(threads));
   // The converter writes float; HALF strips are filled a few rows at a time through a float
   // scratch buffer of ~8 MB (so the strip is never held as float too).
   const bool narrow = sink.type() != OIIO::TypeFloat;
