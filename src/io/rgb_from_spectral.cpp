@@ -10,6 +10,7 @@
 #include "io/colour_tags.h"
 #include "io/output_metadata.h"
 #include "io/safe_output.h"
+#include "io/settings.h"
 #include "io/spectral_layout.h"
 
 namespace spectralize {
@@ -211,18 +212,23 @@ OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLay
   spec.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
   spec.attribute("DateTime", date_time);
   spec.attribute("spectralize:version", SPECTRALIZE_VERSION);
-  spec.attribute("spectralize:observer", settings.spectral.observer);
+  // The settings that shaped the RGB, in the schema's own words (docs/DESIGN.md §8); which of
+  // them apply depends on the file read (the illuminant only for reflective files).
+  const auto record = [&](const char* key) {
+    spec.attribute("spectralize:" + std::string(key), setting_value(*find_setting(key), settings));
+  };
+  record("observer");
   if (!layout.emissive) {
-    spec.attribute("spectralize:illuminant", settings.spectral.illuminant);
-    spec.attribute("spectralize:reflected", settings.as_lit ? "as-lit" : "balanced");
+    record("illuminant");
+    record("reflected");
   }
   if (settings.display.empty()) {
     tag_colour_space(spec, spaces, settings.colorspace);
   } else {
     const std::string space = spaces.display_colour_space(settings.display, settings.view);
     if (!space.empty()) tag_colour_space(spec, spaces, space);
-    spec.attribute("spectralize:display", settings.display);
-    if (!settings.view.empty()) spec.attribute("spectralize:view", settings.view);
+    record("display");
+    if (!settings.view.empty()) record("view");
   }
   return spec;
 }
