@@ -21,6 +21,20 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// Runs `fn`; an Error it throws comes back as an Error prefixed "<context>: " (the option or
+/// file it concerns), except a ConfigError, which passes unchanged (the config is at fault).
+/// Cost: that of fn.
+template <class Fn>
+auto with_context(std::string_view context, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw Error(std::string(context) + ": " + e.what());
+  }
+}
+
 /// A value given by a user, quoted for a message and shortened to `limit` characters (whole
 /// UTF-8 characters), so that a megabyte of garbage is not echoed back. Cost: O(limit).
 inline std::string quote(std::string_view value, std::size_t limit = 80) {

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <thread>
 #include <vector>
 
 #include "core/error.h"
@@ -110,7 +109,7 @@ struct ExrScanlineWriter::Impl {
 };
 
 ExrScanlineWriter::ExrScanlineWriter(const OIIO::ImageSpec& spec, OIIO::Filesystem::IOProxy* proxy,
-                                     const std::string& file, int threads)
+                                     const std::string& file, int workers)
     : impl_(std::make_unique<Impl>(proxy, file)) {
   Impl& m = *impl_;
   m.x = spec.x;
@@ -128,8 +127,6 @@ ExrScanlineWriter::ExrScanlineWriter(const OIIO::ImageSpec& spec, OIIO::Filesyst
     m.offsets.push_back(offset);
     offset += t.size();
   }
-  const int workers =
-      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
     m.out = std::make_unique<Imf::OutputFile>(m.stream, oiio_header(spec, file), workers);
   } catch (const Error&) {

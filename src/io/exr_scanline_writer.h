@@ -22,10 +22,10 @@ class ExrScanlineWriter {
  public:
   /// Opens a scanline OpenEXR of `spec` (all channels one sample type, HALF or FLOAT; its
   /// "compression" as OIIO spells it, with zip's level) on `proxy`, which receives every byte.
-  /// `threads`: OpenEXR's compression workers (0: all cores). Throws Error naming `file`.
+  /// `workers`: OpenEXR's compression threads (≥ 1). Throws Error naming `file`.
   /// Cost: OIIO writing a one-row file in memory to make the header, ~1 ms.
   ExrScanlineWriter(const OIIO::ImageSpec& spec, OIIO::Filesystem::IOProxy* proxy,
-                    const std::string& file, int threads);
+                    const std::string& file, int workers);
   ~ExrScanlineWriter();
 
   /// Writes rows [y, y + rows) of the data window (in order, after the previous ones) from

@@ -63,7 +63,8 @@ class Sink {
                 ? ospec.format
                 : OIIO::TypeFloat;
     if (format == "openexr" && !tiled_) {
-      exr_ = std::make_unique<ExrScanlineWriter>(ospec, file.proxy(), output, threads);
+      exr_ =
+          std::make_unique<ExrScanlineWriter>(ospec, file.proxy(), output, worker_count(threads));
       block_ = exr_block_rows(ospec.get_string_attribute("compression", "zip"));
       return;
     }

@@ -13,19 +13,6 @@ namespace spectralize {
 
 namespace {
 
-// Runs fn, prefixing an Error's message with the option's name (not a ConfigError's: the
-// config is at fault, not the option).
-template <class Fn>
-auto named(const std::string& name, Fn&& fn) {
-  try {
-    return fn();
-  } catch (const ConfigError&) {
-    throw;
-  } catch (const Error& e) {
-    throw Error(name + ": " + e.what());
-  }
-}
-
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -41,12 +28,12 @@ bool is_image_path(const std::string& path) {
 
 ColourSpaces load_config(const Settings& s, const OptionNames& names) {
   if (s.config.empty()) return ColourSpaces::load();
-  return named(names("config"), [&] { return ColourSpaces::load(s.config); });
+  return with_context(names("config"), [&] { return ColourSpaces::load(s.config); });
 }
 
 void resolve_colour_space(Settings& s, const ColourSpaces& spaces, const OptionNames& names) {
   if (!s.colorspace.empty())
-    s.colorspace = named(names("colorspace"), [&] { return spaces.resolve(s.colorspace); });
+    s.colorspace = with_context(names("colorspace"), [&] { return spaces.resolve(s.colorspace); });
 }
 
 }  // namespace
@@ -74,7 +61,7 @@ Settings checked_to_rgb_settings(Settings s, const std::string& output, bool for
   if (!s.view.empty() && s.display.empty())
     throw Error(names("view") + " needs " + names("display"));
   if (!s.display.empty())
-    named(names("display"), [&] { return spaces.display_from_xyz(s.display, s.view); });
+    with_context(names("display"), [&] { return spaces.display_from_xyz(s.display, s.view); });
   // Files that store integers are display-referred: an encoded space and 8 bits by default.
   // TIFF holds either: integers unless half or float is asked for.
   const std::string ext = lower_extension(output);

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <mutex>
 #include <set>
+#include <string_view>
 #include <utility>
 
 #include "core/error.h"
@@ -59,6 +60,9 @@ extern "C" void remove_temporaries_and_die(int sig) {
 }
 
 mode_t g_umask = 022;
+
+// A temporary file's name is "." + the destination's name + this (mkostemps fills the X's).
+constexpr char kTemporarySuffix[] = ".spectralize-XXXXXX.tmp";
 
 std::string errno_text(int err) {
   return std::strerror(err);
@@ -320,7 +324,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
     throw Error(where + "the folder '" + clip(dir.string(), 200) + "' does not exist");
   // ".<name>.spectralize-XXXXXX.tmp", within NAME_MAX; mkostemps creates it with O_EXCL, which
   // never follows a link planted at that name, and tries another name if one is there.
-  const std::string suffix = ".spectralize-XXXXXX.tmp";
+  const std::string suffix = kTemporarySuffix;
   const std::string name = target.filename().string();
   const std::string base =
       (dir / ("." + fitting_name(name, NAME_MAX - 1 - suffix.size()) + suffix)).string();
@@ -413,12 +417,13 @@ void AtomicOutput::commit() {
 }
 
 bool is_temporary_name(const std::string& name) {
-  const std::string suffix = ".spectralize-XXXXXX.tmp";
+  const std::string_view suffix = kTemporarySuffix;
   if (name.size() < 2 + suffix.size() || name[0] != '.') return false;
-  const std::string tail = name.substr(name.size() - suffix.size());
+  const std::string_view tail = std::string_view(name).substr(name.size() - suffix.size());
   for (std::size_t i = 0; i < suffix.size(); ++i) {
-    const bool random = i >= 13 && i < 19;  // the six characters mkostemps fills
-    if (random ? !std::isalnum(static_cast<unsigned char>(tail[i])) : tail[i] != suffix[i])
+    // The X's are the six characters mkostemps fills.
+    if (suffix[i] == 'X' ? !std::isalnum(static_cast<unsigned char>(tail[i]))
+                         : tail[i] != suffix[i])
       return false;
   }
   return true;

@@ -393,13 +393,7 @@ void apply_setting(Settings& settings, const SettingSpec& spec, std::string_view
                    std::string_view where) {
   if (text.empty())
     throw Error(std::string(where) + ": an empty value (give a value or leave the option out)");
-  try {
-    spec.parse(settings, text);
-  } catch (const ConfigError&) {
-    throw;  // the config's fault, not the option's
-  } catch (const Error& e) {
-    throw Error(std::string(where) + ": " + e.what());
-  }
+  with_context(where, [&] { spec.parse(settings, text); });
 }
 
 std::string setting_value(const SettingSpec& spec, const Settings& settings) {

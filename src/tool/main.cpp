@@ -342,9 +342,6 @@ int main(int argc, const char** argv) {
       check_stdout();
       return kExitOk;
     }
-    // The config is read by every command, before any output is opened.
-    protect_input(opt.settings.config);
-    if (const char* env = std::getenv("OCIO")) protect_input(env);
     int status = kExitOk;
     switch (opt.command) {
       case kPlotPixel:
