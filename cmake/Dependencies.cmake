@@ -4,6 +4,7 @@
 find_package(fmt REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
+find_package(Threads REQUIRED)
 find_package(OpenImageIO REQUIRED)
 find_package(Imath REQUIRED)
 find_package(OpenEXR REQUIRED)
