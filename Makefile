@@ -84,6 +84,7 @@ bench: deps build
 	@cmake --build $(BUILD_DIR) --target benchmarks -j $(JOBS)
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
 	@$(BUILD_DIR)/tests/bench/model_study 10000
+	@$(BUILD_DIR)/tests/bench/sigmoid_study 64 20000 2
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5

@@ -8,6 +8,7 @@
 #include <array>
 #include <vector>
 
+#include "baseline/sigmoid_spectrum.h"
 #include "bench_colours.h"
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
@@ -118,23 +119,31 @@ void BM_FullSolve(benchmark::State& state) {
 // cell lookup, 4 or 8 node blend) at 81 bands, one thread; nodes are computed before timing.
 // Arg "image" 1: a 256x256 smooth colour field with 2% noise, like an image (neighbours share
 // cells); 0: 64k independent random linear sRGB colours (every pixel a cache miss, worst case).
+// The pixels of the table benchmarks, linear Rec.709 RGB in [0, 1]: a 256x256 smooth colour
+// field with 2% noise (image) or 64k independent random colours.
+std::vector<std::array<float, 3>> benchmark_pixels(bool image) {
+  std::vector<std::array<float, 3>> pixels(1 << 16);
+  std::uint32_t seed = 12345;
+  auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (image) {
+      const double u = (i % 256) / 255.0, v = (i / 256) / 255.0;
+      pixels[i] = {float(0.1 + 0.8 * u + 0.02 * rnd()), float(0.2 + 0.6 * v + 0.02 * rnd()),
+                   float(0.5 - 0.3 * u * v + 0.02 * rnd())};
+    } else {
+      pixels[i] = {float(rnd()), float(rnd()), float(rnd())};
+    }
+  }
+  return pixels;
+}
+
 void BM_TableSynthesis(benchmark::State& state) {
   SpectralizerSettings s;
   s.mode = state.range(0) ? Mode::reflectance : Mode::emission;
   Spectralizer sp(s);
   SpectralTable table(sp);
-  std::vector<Xyz> pixels(1 << 16);
-  std::uint32_t seed = 12345;
-  auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    if (state.range(1)) {
-      const double u = (i % 256) / 255.0, v = (i / 256) / 255.0;
-      pixels[i] = rec709(0.1 + 0.8 * u + 0.02 * rnd(), 0.2 + 0.6 * v + 0.02 * rnd(),
-                         0.5 - 0.3 * u * v + 0.02 * rnd());
-    } else {
-      pixels[i] = rec709(rnd(), rnd(), rnd());
-    }
-  }
+  std::vector<Xyz> pixels;
+  for (const auto& p : benchmark_pixels(state.range(1))) pixels.push_back(rec709(p[0], p[1], p[2]));
   std::vector<float> out(pixels.size() * s.grid.size());
   std::vector<PixelResult> results(pixels.size());
   table.spectra(pixels.data(), pixels.size(), out.data(), results.data());  // warm the nodes
@@ -145,8 +154,54 @@ void BM_TableSynthesis(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
 }
 
+// The baseline renderers use (Jakob & Hanika 2019, pbrt-v4's RGBToSpectrumTable; a 64^3 sRGB
+// table, built before timing): per pixel the trilinear fetch of the 3 coefficients, then the
+// sigmoid at 4 wavelengths (bands 4: a renderer's hero-wavelength sample, 4 stratified
+// wavelengths from a random offset per pixel) or at the 81 bands of 380:780:5 (bands 81: the
+// output of BM_TableSynthesis), one thread, the same pixels as BM_TableSynthesis (reflectance).
+void BM_SigmoidTableFetch(benchmark::State& state) {
+  static const baseline::SigmoidFitter fitter(bench::kRec709ToXyz);
+  static const baseline::SigmoidTable table(fitter, 64, 2);
+  const auto pixels = benchmark_pixels(state.range(0));
+  const int bands = static_cast<int>(state.range(1));
+  std::vector<float> nm(pixels.size() * 4);
+  std::uint32_t seed = 777;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
+    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
+  }
+  float grid[81];
+  for (int b = 0; b < 81; ++b) grid[b] = 380.0f + 5.0f * b;
+  std::vector<float> out(pixels.size() * bands);
+  for (auto _ : state) {
+    if (bands == 4) {
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        const auto& p = pixels[i];
+        table(p[0], p[1], p[2]).eval4(&nm[4 * i], &out[4 * i]);
+      }
+    } else {
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        const auto& p = pixels[i];
+        const baseline::SigmoidPolynomial c = table(p[0], p[1], p[2]);
+        float* o = &out[81 * i];
+        for (int b = 0; b < 80; b += 4) c.eval4(grid + b, o + b);
+        o[80] = c(grid[80]);
+      }
+    }
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
+}
+
 }  // namespace
 
+BENCHMARK(BM_SigmoidTableFetch)
+    ->ArgNames({"image", "bands"})
+    ->Args({1, 4})
+    ->Args({0, 4})
+    ->Args({1, 81})
+    ->Args({0, 81})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TableSynthesis)
     ->ArgNames({"reflectance", "image"})
     ->Args({0, 1})
