@@ -109,8 +109,9 @@ struct SigmoidFitterSettings {
   std::string observer = "cie1931";  // a name Observer::get accepts
   std::string illuminant = "D65";    // the reference illuminant, a name Illuminant::get accepts
   // rgb2spec's bound on the largest normalised coefficient (all three scaled down to it). It
-  // keeps unreachable colours of wide-gamut spaces finite in float; in sRGB it limits only dark
-  // saturated colours (largest component < ~0.03). INFINITY: the sigmoid's own limit.
+  // keeps unreachable colours of wide-gamut spaces finite in float; in sRGB it limits dark
+  // saturated colours (largest component < 0.03: up to 1.1 Delta E 76) and near-whites (up to
+  // 0.07). INFINITY: the sigmoid's own limit.
   double max_coefficient = 200;
 };
 
