@@ -10,6 +10,7 @@
 #include "core/sample_weights.h"
 #include "core/spectrum_model.h"
 #include "figures/colour_difference.h"
+#include "figures/reference_rows.h"
 
 namespace spectralize::figures {
 
@@ -18,20 +19,14 @@ namespace {
 constexpr std::string_view kCheckerFile = "colorchecker_n_ohta_5nm.csv";
 constexpr std::string_view kAmpasFile = "ampas_rawtoaces_190_patches_5nm.csv";
 
-// The measured reflectances on the grid (linear interpolation of the stored samples).
-struct Patch {
-  std::string name;
-  std::vector<double> rho;
-};
-
-std::vector<Patch> load_patches(const PatchSet& set, const WavelengthGrid& grid) {
-  std::vector<Patch> patches;
+std::vector<MeasuredPatch> load_patches(const PatchSet& set, const WavelengthGrid& grid) {
+  std::vector<MeasuredPatch> patches;
   for (const std::string& name : embedded_columns(set.file)) {
     const auto [nm, values] = embedded_column(set.file, name);
     if (nm.front() > grid.start() || nm.back() < grid.end())
       throw Error("'" + set.file + "' covers " + std::to_string(nm.front()) + ".." +
                   std::to_string(nm.back()) + " nm, not the grid " + grid.to_string());
-    Patch p{name, std::vector<double>(grid.size())};
+    MeasuredPatch p{name, std::vector<double>(grid.size())};
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const double l = grid[i];
       const std::size_t j =
@@ -84,10 +79,10 @@ std::array<double, 3> triple(const Xyz& v) {
   return {v.X, v.Y, v.Z};
 }
 
-PatchResult run_patch(const Spectralizer& sp, const ColourTransform& to_xyz,
-                      const ColourTransform& from_xyz, const Patch& patch, const Viewing& d65,
-                      const Viewing& a, const Viewing& f11) {
-  const SpectralizerSettings& settings = sp.settings();
+PatchResult run_patch(const Reconstruction& row, const Spectralizer& protocol,
+                      const ColourTransform& to_xyz, const ColourTransform& from_xyz,
+                      std::size_t set, std::size_t index, const MeasuredPatch& patch,
+                      const Viewing& d65, const std::vector<Viewing>& lights) {
   PatchResult r;
   r.name = patch.name;
   // The patch's colour as an RGB texture holds it: under D65, relative to the reflected white
@@ -102,18 +97,20 @@ PatchResult run_patch(const Spectralizer& sp, const ColourTransform& to_xyz,
   }
   r.rgb = triple(rgb);
   const Xyz input = to_xyz(rgb.X, rgb.Y, rgb.Z);
-  const SpectrumResult s = sp.spectralize(input);
-  r.status = std::string(to_string(s.status));
+  const Reconstructed s = row.reconstruct(set, index, r.rgb, input);
+  r.status = s.status;
   const std::vector<double>& rho = s.values;
 
   // Exactness by the reference integration itself, not the solver's weights.
-  const Xyz xyz = integrate_reference(settings.grid, rho, sp.observer(), sp.illuminant(),
-                                      d65.weights.normalisation());
-  r.relative_xyz_error = relative_error(xyz, s.target);
-  r.delta_e_d65 = delta_e_2000(to_lab(xyz, d65.white), to_lab(sp.target_of(input), d65.white));
+  const SpectralizerSettings& settings = protocol.settings();
+  const Xyz target = protocol.target_of(input);
+  const Xyz xyz = integrate_reference(settings.grid, rho, protocol.observer(),
+                                      protocol.illuminant(), d65.weights.normalisation());
+  r.relative_xyz_error = relative_error(xyz, target);
+  r.delta_e_d65 = delta_e_2000(to_lab(xyz, d65.white), to_lab(target, d65.white));
   r.delta_e_d65_measured = delta_e_2000(to_lab(xyz, d65.white), to_lab(measured, d65.white));
-  r.delta_e_a = delta_e_2000(a.lab(rho), a.lab(patch.rho));
-  r.delta_e_f11 = delta_e_2000(f11.lab(rho), f11.lab(patch.rho));
+  for (const Viewing& light : lights)
+    r.delta_e.push_back(delta_e_2000(light.lab(rho), light.lab(patch.rho)));
   r.rmse = rms_difference(rho, patch.rho);
   r.roughness = roughness(rho);
   r.roughness_measured = roughness(patch.rho);
@@ -126,7 +123,7 @@ PatchResult run_patch(const Spectralizer& sp, const ColourTransform& to_xyz,
 
 LightResult run_light(const Spectralizer& sp, const ColourTransform& to_xyz,
                       const ColourTransform& from_xyz, const std::string& name,
-                      const std::vector<Patch>& patches) {
+                      const std::vector<MeasuredPatch>& patches) {
   const SpectralizerSettings& settings = sp.settings();
   const WavelengthGrid& grid = settings.grid;
   LightResult r;
@@ -169,7 +166,7 @@ LightResult run_light(const Spectralizer& sp, const ColourTransform& to_xyz,
   const Viewing lit_real = viewing(grid, sp.observer(), light_on_table(name, grid, real));
   const Viewing lit_recon = viewing(grid, sp.observer(), light_on_table(name, grid, phi));
   std::vector<double> de;
-  for (const Patch& p : patches)
+  for (const MeasuredPatch& p : patches)
     de.push_back(delta_e_2000(lit_recon.lab(p.rho), lit_real.lab(p.rho)));
   const Spread sd = spread(de);
   r.checker_delta_e_median = sd.median;
@@ -177,18 +174,18 @@ LightResult run_light(const Spectralizer& sp, const ColourTransform& to_xyz,
   return r;
 }
 
-// The RGB renderer's view of each patch under A and FL11: RGB (as run_patch makes it) times
+// The RGB renderer's view of each patch under each light: RGB (as run_patch makes it) times
 // the light's RGB, against the measurement. Both in the frame of the fixed D65 calibration
 // (rho == 1 under D65 is RGB 1, 1, 1); CIELAB is unchanged by that diagonal scaling.
 RgbBaseline rgb_baseline(const std::string& space, const std::string& set,
                          const ColourTransform& to_xyz, const ColourTransform& from_xyz,
-                         const std::vector<Patch>& patches, const Viewing& d65, const Viewing& a,
-                         const Viewing& f11) {
+                         const std::vector<MeasuredPatch>& patches, const Viewing& d65,
+                         const std::vector<Viewing>& lights) {
   const Xyz calibration = balance_to_d65(d65.white);
   RgbBaseline b;
   b.space = space;
   b.set = set;
-  auto render = [&](const Patch& p, const Viewing& light) {
+  auto render = [&](const MeasuredPatch& p, const Viewing& light) {
     const Xyz balanced = hadamard(d65.weights.integrate(p.rho), calibration);
     Xyz rgb = from_xyz(balanced.X, balanced.Y, balanced.Z);
     for (int c = 0; c < 3; ++c) rgb[c] = std::clamp(rgb[c], 0.0, 1.0);
@@ -198,25 +195,25 @@ RgbBaseline rgb_baseline(const std::string& space, const std::string& set,
     const Xyz truth = hadamard(light.weights.integrate(p.rho), calibration);
     return delta_e_2000(to_lab(shown, white), to_lab(truth, white));
   };
-  for (const Patch& p : patches) {
-    b.patches.push_back(p.name);
-    b.delta_e_a.push_back(render(p, a));
-    b.delta_e_f11.push_back(render(p, f11));
+  for (const MeasuredPatch& p : patches) b.patches.push_back(p.name);
+  for (const Viewing& light : lights) {
+    std::vector<double> de;
+    for (const MeasuredPatch& p : patches) de.push_back(render(p, light));
+    b.spreads.push_back(spread(de));
+    b.delta_e.push_back(std::move(de));
   }
-  b.a = spread(b.delta_e_a);
-  b.f11 = spread(b.delta_e_f11);
   return b;
 }
 
-ValidationSummary summarise(const std::vector<PatchResult>& patches) {
+ValidationSummary summarise(const std::vector<PatchResult>& patches, std::size_t lights) {
   ValidationSummary s;
-  std::vector<double> d65, a, f11;
+  std::vector<double> d65;
+  std::vector<std::vector<double>> under(lights);
   s.rho_min = INFINITY;
   s.rho_max = -INFINITY;
   for (const PatchResult& p : patches) {
     d65.push_back(p.delta_e_d65);
-    a.push_back(p.delta_e_a);
-    f11.push_back(p.delta_e_f11);
+    for (std::size_t k = 0; k < lights; ++k) under[k].push_back(p.delta_e[k]);
     s.mean_rmse += p.rmse / static_cast<double>(patches.size());
     s.mean_roughness += p.roughness / static_cast<double>(patches.size());
     s.mean_roughness_measured += p.roughness_measured / static_cast<double>(patches.size());
@@ -228,22 +225,58 @@ ValidationSummary summarise(const std::vector<PatchResult>& patches) {
     s.clipped += p.clipped ? 1 : 0;
   }
   s.delta_e_d65 = spread(d65);
-  s.delta_e_a = spread(a);
-  s.delta_e_f11 = spread(f11);
+  for (auto& v : under) s.delta_e.push_back(spread(std::move(v)));
   return s;
+}
+
+// A registered model's reconstruction: the Spectralizer in reflectance mode.
+class ModelReconstruction final : public Reconstruction {
+ public:
+  explicit ModelReconstruction(const SpectralizerSettings& settings) : sp_(settings) {}
+  Reconstructed reconstruct(std::size_t, std::size_t, const std::array<double, 3>&,
+                            const Xyz& xyz_d65) const override {
+    SpectrumResult r = sp_.spectralize(xyz_d65);
+    return {std::move(r.values), std::string(to_string(r.status))};
+  }
+
+ private:
+  Spectralizer sp_;
+};
+
+SpectralizerSettings model_settings(const std::string& model, const EdgeFilter& filter, Mode mode) {
+  SpectralizerSettings settings;
+  settings.model = model;
+  settings.filter = filter;
+  settings.mode = mode;
+  return settings;
+}
+
+ValidationConfig model_row(std::string name, std::string model, EdgeFilter filter) {
+  ValidationConfig c{std::move(name), model, filter, true, {}};
+  c.make = [model, filter](const RowContext&) -> std::unique_ptr<Reconstruction> {
+    return std::make_unique<ModelReconstruction>(model_settings(model, filter, Mode::reflectance));
+  };
+  return c;
 }
 
 }  // namespace
 
+std::vector<std::string> validation_lights() {
+  return {"A", "FL11", "FL2", "LED-B3", "HP1", "D50"};
+}
+
 std::vector<ValidationConfig> validation_configs() {
   const std::string def(default_model_name());
   auto tag = [&](const std::string& model) { return model == def ? " (default)" : ""; };
-  return {{"paper, filter " + default_edge_filter().to_string() + tag("paper"), "paper",
-           default_edge_filter()},
-          {"paper, filter 0.5", "paper", EdgeFilter::parse("0.5")},
-          {"paper, filter 0.9", "paper", EdgeFilter::parse("0.9")},
-          {"smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()},
-          {"natural" + std::string(tag("natural")), "natural", default_edge_filter()}};
+  std::vector<ValidationConfig> rows = {
+      model_row("paper, filter " + default_edge_filter().to_string() + tag("paper"), "paper",
+                default_edge_filter()),
+      model_row("paper, filter 0.5", "paper", EdgeFilter::parse("0.5")),
+      model_row("paper, filter 0.9", "paper", EdgeFilter::parse("0.9")),
+      model_row("smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()),
+      model_row("natural" + std::string(tag("natural")), "natural", default_edge_filter())};
+  for (ValidationConfig& r : reference_rows()) rows.push_back(std::move(r));
+  return rows;
 }
 
 std::vector<std::string> validation_spaces() {
@@ -290,22 +323,31 @@ double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x) {
   return n && interior > 0 ? edge / (interior / static_cast<double>(n)) : 0.0;
 }
 
+std::vector<std::vector<MeasuredPatch>> load_validation_sets() {
+  const SpectralizerSettings defaults;
+  std::vector<std::vector<MeasuredPatch>> sets;
+  for (const PatchSet& set : validation_sets()) sets.push_back(load_patches(set, defaults.grid));
+  return sets;
+}
+
 Validation validate(const ColourSpaces& spaces) {
   const SpectralizerSettings defaults;
   const Observer& obs = Observer::get(defaults.observer);
-  std::vector<std::vector<Patch>> sets;
-  for (const PatchSet& set : validation_sets()) sets.push_back(load_patches(set, defaults.grid));
-  const std::vector<Patch>& checker = sets.front();
+  const std::vector<std::vector<MeasuredPatch>> sets = load_validation_sets();
+  const std::vector<MeasuredPatch>& checker = sets.front();
   const Viewing d65 = viewing(defaults.grid, obs, Illuminant::get("D65"));
-  const Viewing a = viewing(defaults.grid, obs, Illuminant::get("A"));
-  const Viewing f11 = viewing(defaults.grid, obs, Illuminant::get("FL11"));
+  std::vector<Viewing> lights;
+  for (const std::string& light : validation_lights())
+    lights.push_back(viewing(defaults.grid, obs, Illuminant::get(light)));
+  // The protocol's own targets and weights (the default settings, reflectance mode).
+  const Spectralizer protocol(model_settings(defaults.model, defaults.filter, Mode::reflectance));
 
   Validation results;
   for (const std::string& space : validation_spaces())
     for (std::size_t k = 0; k < sets.size(); ++k)
       results.baselines.push_back(rgb_baseline(space, validation_sets()[k].name,
                                                spaces.to_xyz(space), spaces.from_xyz(space),
-                                               sets[k], d65, a, f11));
+                                               sets[k], d65, lights));
   for (const ValidationConfig& config : validation_configs())
     for (const std::string& space : validation_spaces()) {
       ConfigResult c;
@@ -315,23 +357,22 @@ Validation validate(const ColourSpaces& spaces) {
       try {
         const ColourTransform to_xyz = spaces.to_xyz(space);
         const ColourTransform from_xyz = spaces.from_xyz(space);
-        SpectralizerSettings settings = defaults;
-        settings.model = config.model;
-        settings.filter = config.filter;
-        settings.mode = Mode::reflectance;
-        const Spectralizer surfaces(settings);
+        const std::unique_ptr<Reconstruction> row =
+            config.make(RowContext{space, &to_xyz, &protocol, &sets});
         for (std::size_t k = 0; k < sets.size(); ++k) {
           PatchSetResult r;
           r.set = validation_sets()[k];
-          for (const Patch& p : sets[k])
-            r.patches.push_back(run_patch(surfaces, to_xyz, from_xyz, p, d65, a, f11));
-          r.summary = summarise(r.patches);
+          for (std::size_t i = 0; i < sets[k].size(); ++i)
+            r.patches.push_back(
+                run_patch(*row, protocol, to_xyz, from_xyz, k, i, sets[k][i], d65, lights));
+          r.summary = summarise(r.patches, lights.size());
           c.sets.push_back(std::move(r));
         }
-        settings.mode = Mode::emission;
-        const Spectralizer lights(settings);
-        for (const char* light : {"A", "D50", "FL2"})
-          c.lights.push_back(run_light(lights, to_xyz, from_xyz, light, checker));
+        if (!config.model.empty()) {
+          const Spectralizer emission(model_settings(config.model, config.filter, Mode::emission));
+          for (const char* light : {"A", "D50", "FL2"})
+            c.lights.push_back(run_light(emission, to_xyz, from_xyz, light, checker));
+        }
       } catch (const Error& e) {
         c.available = false;
         c.error = e.what();

@@ -1,14 +1,17 @@
 #pragma once
 // `spectralize_figures validate OUTDIR`: how the reconstructed spectra compare with measured
 // ones. Each set of measured reflectances (the 24 ColorChecker patches of Ohta, the 190 AMPAS
-// rawtoaces training patches) is turned into colours under D65 in a working space,
-// spectralized as reflectances and compared with the measurement under D65 (the round trip),
-// A and FL11 (metamerism), spectrally (RMSE) and in roughness; CIE illuminants A, D50 and FL2
-// given as RGB are spectralized as lights and compared with their real SPDs. Each
-// configuration (model, edge filter) is one entry of validation_configs().
+// rawtoaces training patches) is turned into colours under D65 in a working space, reconstructed
+// by every row (the registered models, and reference lines that are not models: what data alone
+// achieves, rgb2spec) and compared with the measurement under D65 (the round trip) and under six
+// other lights (metamerism), spectrally (RMSE) and in roughness; CIE illuminants A, D50 and FL2
+// given as RGB are spectralized as lights by every model and compared with their real SPDs.
+// Each row is one entry of validation_configs(): adding a row is adding an entry there.
 
 #include <array>
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,15 +21,55 @@
 
 namespace spectralize::figures {
 
-/// One way of spectralizing: a row of the summary tables.
-struct ValidationConfig {
-  std::string name;  // e.g. "paper, filter auto (default)"
-  std::string model = "paper";
-  EdgeFilter filter;
+/// The lights reflectances are compared under besides D65 (the round trip): CIE A, FL11, FL2,
+/// LED-B3, HP1 and D50 (docs/MODEL_STUDY.md). Cost: O(1).
+std::vector<std::string> validation_lights();
+
+/// A measured reflectance on the grid (the stored samples interpolated linearly).
+struct MeasuredPatch {
+  std::string name;
+  std::vector<double> rho;
 };
 
-/// The configurations validated: the paper model with the default filter and two fixed ones,
-/// the smooth and the natural model; the default model's row says "(default)". Cost: O(1).
+/// What a row's reconstruction may use, for one working space.
+struct RowContext {
+  std::string space;
+  const ColourTransform* to_xyz = nullptr;  // the space's linear RGB -> CIE XYZ (D65)
+  const Spectralizer* protocol = nullptr;   // reflectance, default settings: targets, weights
+  const std::vector<std::vector<MeasuredPatch>>* sets = nullptr;  // as validation_sets()
+};
+
+/// One patch's reflectance from a row.
+struct Reconstructed {
+  std::vector<double> values;  // on the grid
+  std::string status;          // the spectralizer's status, or "ok" / "not_converged"
+};
+
+/// A row's way of turning a patch's colour into a reflectance: a registered model through the
+/// Spectralizer, or a reference line.
+class Reconstruction {
+ public:
+  virtual ~Reconstruction() = default;
+  /// The reflectance of patch `patch` of set `set` (indices as validation_sets()), given as its
+  /// colour `rgb` in the space (clipped to [0, 1]) and `xyz_d65`, the same colour in CIE XYZ
+  /// (D65). The patch's own measurement must not be used (reference lines that learn from the
+  /// sets leave it out). Cost: the method's.
+  virtual Reconstructed reconstruct(std::size_t set, std::size_t patch,
+                                    const std::array<double, 3>& rgb, const Xyz& xyz_d65) const = 0;
+};
+
+/// One way of reconstructing reflectances: a row of the summary tables.
+struct ValidationConfig {
+  std::string name;   // e.g. "paper, filter auto (default)"
+  std::string model;  // the registered model (its lights are validated too); "" for a reference
+  EdgeFilter filter;  // the paper model's
+  bool exact = true;  // reproduces the D65 colour of every patch (the tests hold it to that)
+  std::function<std::unique_ptr<Reconstruction>(const RowContext&)> make;
+};
+
+/// The rows: the paper model with the default filter and two fixed ones, the smooth and the
+/// natural model (the default model's row says "(default)"), then the reference lines
+/// (reference_rows.h). Cost: O(1).
 std::vector<ValidationConfig> validation_configs();
 
 /// The working spaces the colours are given in. Cost: O(1).
@@ -50,8 +93,7 @@ struct PatchResult {
   std::string status;               // the spectralizer's status
   double delta_e_d65 = 0;           // round trip: spectrum vs the input colour, under D65
   double delta_e_d65_measured = 0;  // spectrum vs measurement under D65 (differs if clipped)
-  double delta_e_a = 0;             // spectrum vs measurement under A
-  double delta_e_f11 = 0;           // ... under FL11
+  std::vector<double> delta_e;      // spectrum vs measurement under each validation_lights()
   double rmse = 0;                  // RMS of reconstruction - measurement over the grid
   double roughness = 0;             // RMS of second differences of the reconstruction
   double roughness_measured = 0;    // ... of the measurement
@@ -83,7 +125,8 @@ struct Spread {
 };
 
 struct ValidationSummary {
-  Spread delta_e_d65, delta_e_a, delta_e_f11;
+  Spread delta_e_d65;
+  std::vector<Spread> delta_e;  // under each validation_lights()
   double mean_rmse = 0, mean_roughness = 0, mean_roughness_measured = 0;
   double max_relative_xyz_error = 0;
   double max_edge_ratio = 0, max_edge_ratio_measured = 0;
@@ -115,8 +158,8 @@ struct ConfigResult {
 struct RgbBaseline {
   std::string space, set;
   std::vector<std::string> patches;
-  std::vector<double> delta_e_a, delta_e_f11;  // per patch
-  Spread a, f11;
+  std::vector<std::vector<double>> delta_e;  // [light][patch], lights as validation_lights()
+  std::vector<Spread> spreads;               // per light
 };
 
 /// Everything validate() measured.
@@ -134,6 +177,10 @@ double roughness(const std::vector<double>& x);
 /// The edge-peak figure of the README's filter study: the largest sample within 20 nm of
 /// either end of the grid over the mean of the samples in 400..700 nm. Cost: O(N).
 double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x);
+
+/// The measured sets on the default grid, as validation_sets(). Throws Error for missing or
+/// malformed data. Cost: O(patches x N).
+std::vector<std::vector<MeasuredPatch>> load_validation_sets();
 
 /// Runs every configuration in every space on every set, and the RGB baseline. Configurations that
 /// throw are kept, marked unavailable. Throws Error only for missing data or an unknown space.

@@ -22,6 +22,15 @@ nlohmann::json spread_json(const Spread& s) {
   return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
 }
 
+// {"A": f(0), "FL11": f(1), ...} over validation_lights().
+template <typename F>
+nlohmann::json per_light(F&& f) {
+  nlohmann::json j = nlohmann::json::object();
+  const std::vector<std::string> lights = validation_lights();
+  for (std::size_t k = 0; k < lights.size(); ++k) j[lights[k]] = f(k);
+  return j;
+}
+
 std::string spread_md(const Spread& s) {
   return fmt::format("{:.3g} / {:.3g} / {:.3g}", s.median, s.p95, s.max);
 }
@@ -40,10 +49,10 @@ constexpr const char* kDefinitions[][2] = {
     {"delta_e_d65_measured",
      "CIEDE2000 under D65 between reconstruction and measurement "
      "(differs from delta_e_d65 only for patches clipped to the space)"},
-    {"delta_e_a",
-     "CIEDE2000 under CIE illuminant A between reconstruction and measurement "
-     "(metamerism), CIELAB relative to the white (rho == 1) under A"},
-    {"delta_e_f11", "the same under CIE FL11 (F11, a narrow-band fluorescent lamp)"},
+    {"delta_e",
+     "per light (CIE A, FL11, FL2, LED-B3, HP1, D50): CIEDE2000 under that light between "
+     "reconstruction and measurement (metamerism), CIELAB relative to the white (rho == 1) "
+     "under the light"},
     {"rmse", "RMS difference of reconstruction and measurement over the grid samples"},
     {"roughness", "RMS of the second differences x[i-1] - 2 x[i] + x[i+1] over the grid (5 nm)"},
     {"edge_ratio",
@@ -52,6 +61,7 @@ constexpr const char* kDefinitions[][2] = {
     {"relative_xyz_error",
      "max |XYZ - target| / max |target|, XYZ by the reference integration "
      "(1 nm CIE tables, piecewise-linear spectrum)"},
+    {"exact", "the row reproduces every patch's D65 colour (reference lines may not)"},
     {"lights",
      "CIE A, D50, FL2 sampled on the grid, normalised to Y = 1, given as RGB in the "
      "space, spectralized as emission and normalised to Y = 1; checker_delta_e: the 24 "
@@ -76,12 +86,16 @@ std::string validation_json(const Validation& results) {
   doc["observer"] = defaults.observer;
   doc["reference_illuminant"] = defaults.illuminant;
   for (const auto& d : kDefinitions) doc["definitions"][d[0]] = d[1];
+  doc["lights"] = validation_lights();
   doc["configurations"] = nlohmann::json::array();
   for (const ConfigResult& c : results.configs) {
     nlohmann::json j;
     j["name"] = c.config.name;
     j["model"] = c.config.model;
-    j["filter"] = find_model(c.config.model).uses("filter") ? c.config.filter.to_string() : "";
+    j["filter"] = !c.config.model.empty() && find_model(c.config.model).uses("filter")
+                      ? c.config.filter.to_string()
+                      : "";
+    j["exact"] = c.config.exact;
     j["space"] = c.space;
     j["available"] = c.available;
     if (!c.available) j["error"] = c.error;
@@ -90,36 +104,36 @@ std::string validation_json(const Validation& results) {
     for (const PatchSetResult& r : c.sets) {
       const ValidationSummary& s = r.summary;
       nlohmann::json set{{"name", r.set.name}, {"data", r.set.file}};
-      set["summary"] = {{"delta_e_d65", spread_json(s.delta_e_d65)},
-                        {"delta_e_a", spread_json(s.delta_e_a)},
-                        {"delta_e_f11", spread_json(s.delta_e_f11)},
-                        {"mean_rmse", s.mean_rmse},
-                        {"mean_roughness", s.mean_roughness},
-                        {"mean_roughness_measured", s.mean_roughness_measured},
-                        {"max_relative_xyz_error", s.max_relative_xyz_error},
-                        {"max_edge_ratio", s.max_edge_ratio},
-                        {"max_edge_ratio_measured", s.max_edge_ratio_measured},
-                        {"rho_min", s.rho_min},
-                        {"rho_max", s.rho_max},
-                        {"clipped_patches", s.clipped}};
+      set["summary"] = {
+          {"delta_e_d65", spread_json(s.delta_e_d65)},
+          {"delta_e", per_light([&](std::size_t k) { return spread_json(s.delta_e[k]); })},
+          {"mean_rmse", s.mean_rmse},
+          {"mean_roughness", s.mean_roughness},
+          {"mean_roughness_measured", s.mean_roughness_measured},
+          {"max_relative_xyz_error", s.max_relative_xyz_error},
+          {"max_edge_ratio", s.max_edge_ratio},
+          {"max_edge_ratio_measured", s.max_edge_ratio_measured},
+          {"rho_min", s.rho_min},
+          {"rho_max", s.rho_max},
+          {"clipped_patches", s.clipped}};
       set["patches"] = nlohmann::json::array();
       for (const PatchResult& p : r.patches)
-        set["patches"].push_back({{"name", p.name},
-                                  {"rgb", p.rgb},
-                                  {"clipped", p.clipped},
-                                  {"status", p.status},
-                                  {"delta_e_d65", p.delta_e_d65},
-                                  {"delta_e_d65_measured", p.delta_e_d65_measured},
-                                  {"delta_e_a", p.delta_e_a},
-                                  {"delta_e_f11", p.delta_e_f11},
-                                  {"rmse", p.rmse},
-                                  {"roughness", p.roughness},
-                                  {"roughness_measured", p.roughness_measured},
-                                  {"edge_ratio", p.edge_ratio},
-                                  {"edge_ratio_measured", p.edge_ratio_measured},
-                                  {"relative_xyz_error", p.relative_xyz_error},
-                                  {"rho_min", p.rho_min},
-                                  {"rho_max", p.rho_max}});
+        set["patches"].push_back(
+            {{"name", p.name},
+             {"rgb", p.rgb},
+             {"clipped", p.clipped},
+             {"status", p.status},
+             {"delta_e_d65", p.delta_e_d65},
+             {"delta_e_d65_measured", p.delta_e_d65_measured},
+             {"delta_e", per_light([&](std::size_t k) { return p.delta_e[k]; })},
+             {"rmse", p.rmse},
+             {"roughness", p.roughness},
+             {"roughness_measured", p.roughness_measured},
+             {"edge_ratio", p.edge_ratio},
+             {"edge_ratio_measured", p.edge_ratio_measured},
+             {"relative_xyz_error", p.relative_xyz_error},
+             {"rho_min", p.rho_min},
+             {"rho_max", p.rho_max}});
       j["sets"].push_back(std::move(set));
     }
     j["lights"] = nlohmann::json::array();
@@ -140,51 +154,59 @@ std::string validation_json(const Validation& results) {
   }
   doc["rgb_renderer"] = nlohmann::json::array();
   for (const RgbBaseline& b : results.baselines) {
-    nlohmann::json j{{"space", b.space},
-                     {"set", b.set},
-                     {"delta_e_a", spread_json(b.a)},
-                     {"delta_e_f11", spread_json(b.f11)},
-                     {"patches", nlohmann::json::array()}};
+    nlohmann::json j{
+        {"space", b.space},
+        {"set", b.set},
+        {"delta_e", per_light([&](std::size_t k) { return spread_json(b.spreads[k]); })},
+        {"patches", nlohmann::json::array()}};
     for (std::size_t i = 0; i < b.patches.size(); ++i)
-      j["patches"].push_back({{"name", b.patches[i]},
-                              {"delta_e_a", b.delta_e_a[i]},
-                              {"delta_e_f11", b.delta_e_f11[i]}});
+      j["patches"].push_back({{"name", b.patches[i]}, {"delta_e", per_light([&](std::size_t k) {
+                                                         return b.delta_e[k][i];
+                                                       })}});
     doc["rgb_renderer"].push_back(std::move(j));
   }
   return doc.dump(1) + "\n";
 }
 
 std::string summary_table(const Validation& results) {
-  std::string md =
-      "| set | configuration | space | ΔE00 D65 (round trip) med / p95 / max | ΔE00 A med / p95 / "
-      "max | ΔE00 F11 med / p95 / max | mean RMSE | mean roughness | max edge ratio | max rel. "
-      "XYZ error | ρ min … max |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const std::vector<std::string> lights = validation_lights();
+  std::string md = "| set | configuration | space | ΔE00 D65 (round trip) med / p95 / max |";
+  for (const std::string& l : lights) md += " ΔE00 " + l + " med / p95 / max |";
+  md += " mean RMSE | mean roughness | max edge ratio | max rel. XYZ error | ρ min … max |\n|";
+  for (std::size_t k = 0; k < lights.size() + 9; ++k) md += "---|";
+  md += "\n";
+  const std::string blank_lights = [&] {
+    std::string b;
+    for (std::size_t k = 0; k < lights.size(); ++k) b += " |";
+    return b;
+  }();
   for (const PatchSet& set : validation_sets()) {
     for (const ConfigResult& c : results.configs) {
       if (!c.available) {
-        md += fmt::format("| {} | {} | {} | unavailable: {} | | | | | | | |\n", set.name,
-                          c.config.name, short_space(c.space), c.error);
+        md += fmt::format("| {} | {} | {} | unavailable: {} |{} | | | | |\n", set.name,
+                          c.config.name, short_space(c.space), c.error, blank_lights);
         continue;
       }
       for (const PatchSetResult& r : c.sets) {
         if (r.set.name != set.name) continue;
         const ValidationSummary& s = r.summary;
-        md += fmt::format(
-            "| {} | {} | {}{} | {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.3f} … "
-            "{:.3f} |\n",
-            set.name, c.config.name, short_space(c.space),
-            s.clipped ? fmt::format(" ({} clipped)", s.clipped) : "", spread_md(s.delta_e_d65),
-            spread_md(s.delta_e_a), spread_md(s.delta_e_f11), s.mean_rmse, s.mean_roughness,
-            s.max_edge_ratio, s.max_relative_xyz_error, s.rho_min, s.rho_max);
+        md += fmt::format("| {} | {} | {}{} | {} |", set.name, c.config.name, short_space(c.space),
+                          s.clipped ? fmt::format(" ({} clipped)", s.clipped) : "",
+                          spread_md(s.delta_e_d65));
+        for (const Spread& d : s.delta_e) md += fmt::format(" {} |", spread_md(d));
+        md += fmt::format(" {:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n", s.mean_rmse,
+                          s.mean_roughness, s.max_edge_ratio, s.max_relative_xyz_error, s.rho_min,
+                          s.rho_max);
       }
     }
-    // What the spectra are for: an RGB renderer gets A and F11 this wrong on the same patches.
+    // What the spectra are for: an RGB renderer gets the other lights this wrong.
     for (const RgbBaseline& b : results.baselines)
-      if (b.set == set.name)
-        md += fmt::format(
-            "| {} | RGB renderer (no spectra; baseline) | {} | 0 by construction | {} | {} | "
-            "| | | | |\n",
-            set.name, short_space(b.space), spread_md(b.a), spread_md(b.f11));
+      if (b.set == set.name) {
+        md += fmt::format("| {} | RGB renderer (no spectra; baseline) | {} | 0 by construction |",
+                          set.name, short_space(b.space));
+        for (const Spread& d : b.spreads) md += fmt::format(" {} |", spread_md(d));
+        md += " | | | | |\n";
+      }
   }
   return md;
 }
@@ -206,7 +228,7 @@ std::string lights_table(const std::vector<ConfigResult>& results) {
       "ΔE00 of the light | ColorChecker under it: ΔE00 med / max |\n"
       "|---|---|---|---|---|---|---|---|---|\n";
   for (const ConfigResult& c : results)
-    for (const LightResult& l : c.lights)
+    for (const LightResult& l : c.lights)  // models only: reference rows make no lights
       md += fmt::format(
           "| {} | {} | {} | {:.3f}, {:.3f}, {:.3f}{} | {:.4f} | {:.4f} ({:.4f}) | "
           "{:.2f} | {:.1e} | {:.3g} / {:.3g} |\n",
@@ -225,9 +247,10 @@ std::string validation_markdown(const Validation& v) {
       "reflectances measured by N. Ohta (`data/colorchecker_n_ohta_5nm.csv`) and the 190 AMPAS "
       "rawtoaces training patches (`data/ampas_rawtoaces_190_patches_5nm.csv`) are turned into "
       "colours under D65 (relative to the reflected white, the paper's eq. 6) in each space — "
-      "clipped to [0, 1] when outside it, as a texture would hold them —, spectralized as "
-      "reflectances ({} nm, {}, reference illuminant {}) and compared with the measurement. "
-      "Spectral figures are on the grid samples.\n\n",
+      "clipped to [0, 1] when outside it, as a texture would hold them —, reconstructed as "
+      "reflectances by every row ({} nm, {}, reference illuminant {}: the registered models and "
+      "reference lines that are not models) and compared with the measurement under D65 and six "
+      "other lights (docs/MODEL_STUDY.md). Spectral figures are on the grid samples.\n\n",
       defaults.grid.to_string(), defaults.observer, defaults.illuminant);
   for (const auto& d : kDefinitions) md += fmt::format("- `{}`: {}\n", d[0], d[1]);
   md += "\n## Reflectances: summary\n\n" + summary_table(v);
@@ -236,7 +259,7 @@ std::string validation_markdown(const Validation& v) {
           " (red patches reflect most at the long end: for reflectances a high edge ratio is not "
           "by itself an artefact).\n";
   md += fmt::format(
-      "\nThe RGB renderer rows show each patch under A and F11 as its RGB times the light's RGB "
+      "\nThe RGB renderer rows show each patch under each light as its RGB times the light's RGB "
       "(the light's colour in the space, as a renderer without spectra does), against the "
       "measured spectrum under that light.\n");
   md += "\n## Lights: CIE illuminants given as RGB\n\n" + lights_table(results);
@@ -248,17 +271,20 @@ std::string validation_markdown(const Validation& v) {
     }
     for (const PatchSetResult& r : c.sets) {
       md += fmt::format("\n### {}\n\n", r.set.name);
-      md +=
-          "| patch | RGB | status | ΔE00 D65 | ΔE00 D65 vs measured | ΔE00 A | ΔE00 F11 | RMSE | "
-          "roughness (measured) | edge ratio | rel. XYZ error | ρ min … max |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-      for (const PatchResult& p : r.patches)
-        md += fmt::format(
-            "| {} | {:.4f}, {:.4f}, {:.4f}{} | {} | {:.1e} | {:.3g} | {:.3g} | {:.3g} | {:.4f} | "
-            "{:.4f} ({:.4f}) | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
-            p.name, p.rgb[0], p.rgb[1], p.rgb[2], p.clipped ? " (clipped)" : "", p.status,
-            p.delta_e_d65, p.delta_e_d65_measured, p.delta_e_a, p.delta_e_f11, p.rmse, p.roughness,
-            p.roughness_measured, p.edge_ratio, p.relative_xyz_error, p.rho_min, p.rho_max);
+      md += "| patch | RGB | status | ΔE00 D65 | ΔE00 D65 vs measured |";
+      for (const std::string& l : validation_lights()) md += " ΔE00 " + l + " |";
+      md += " RMSE | roughness (measured) | edge ratio | rel. XYZ error | ρ min … max |\n|";
+      for (std::size_t k = 0; k < validation_lights().size() + 10; ++k) md += "---|";
+      md += "\n";
+      for (const PatchResult& p : r.patches) {
+        md += fmt::format("| {} | {:.4f}, {:.4f}, {:.4f}{} | {} | {:.1e} | {:.3g} |", p.name,
+                          p.rgb[0], p.rgb[1], p.rgb[2], p.clipped ? " (clipped)" : "", p.status,
+                          p.delta_e_d65, p.delta_e_d65_measured);
+        for (double d : p.delta_e) md += fmt::format(" {:.3g} |", d);
+        md += fmt::format(" {:.4f} | {:.4f} ({:.4f}) | {:.2f} | {:.1e} | {:.3f} … {:.3f} |\n",
+                          p.rmse, p.roughness, p.roughness_measured, p.edge_ratio,
+                          p.relative_xyz_error, p.rho_min, p.rho_max);
+      }
     }
   }
   return md;
