@@ -135,21 +135,19 @@ TEST(Figures, WrongCommandLineExitsTwo) {
   EXPECT_NE(bad.err.find(blocker), std::string::npos) << bad.err;
 }
 
-TEST(Validation, TablesAreExactUnderD65ForEveryConfigurationAndSet) {
-  e2e::Scratch dir("validation");
-  const std::string out = dir / "validation";
-  const e2e::Run r = run_figures("validate " + out, dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json doc = nlohmann::json::parse(e2e::slurp(out + "/validation.json"));
-  const std::string md = e2e::slurp(out + "/validation.md");
+const std::vector<std::string> kLights = {"A", "FL11", "FL2", "LED-B3", "HP1", "D50"};
+
+// The tables: every row on both sets in both spaces, exact rows exact under D65, bounded, six
+// lights per patch, the reference lines present and honest.
+void check_tables(const nlohmann::json& doc, const std::string& md, const e2e::Run& r) {
+  const std::vector<std::string>& lights = kLights;
   EXPECT_NE(md.find("## Reflectances: summary"), std::string::npos);
   // Six lights besides D65, in the order the tables use.
-  const std::vector<std::string> lights = {"A", "FL11", "FL2", "LED-B3", "HP1", "D50"};
   EXPECT_EQ(doc.at("lights").get<std::vector<std::string>>(), lights);
 
   const auto& configs = doc.at("configurations");
-  ASSERT_GE(configs.size(), 12u);  // 5 model rows and the reference line, x 2 spaces
-  bool smooth = false, natural = false, fixed_filters = false, neighbour = false;
+  ASSERT_GE(configs.size(), 16u);  // 5 model rows and 3 reference lines, x 2 spaces
+  bool smooth = false, natural = false, fixed_filters = false, neighbour = false, fit = false;
   for (const auto& c : configs) {
     const std::string name = c.at("name");
     SCOPED_TRACE(name + " / " + c.at("space").get<std::string>());
@@ -161,6 +159,7 @@ TEST(Validation, TablesAreExactUnderD65ForEveryConfigurationAndSet) {
     fixed_filters = fixed_filters || c.at("filter") == "0.9";
     const bool nn = name.find("nearest neighbour") != std::string::npos;
     neighbour = neighbour || nn;
+    fit = fit || name.find("rgb2spec, fitted") != std::string::npos;
     EXPECT_TRUE(exact || !model) << "every registered model is exact";
     EXPECT_NE(md.find(name), std::string::npos);
     ASSERT_EQ(c.at("sets").size(), 2u);
@@ -170,8 +169,9 @@ TEST(Validation, TablesAreExactUnderD65ForEveryConfigurationAndSet) {
       double worst_a = 0;
       for (const auto& p : set.at("patches")) {
         SCOPED_TRACE(p.at("name").get<std::string>());
+        // rgb2spec comes within its fit's tolerance (the table: its interpolation) of the colour.
+        EXPECT_LE(p.at("delta_e_d65").get<double>(), exact ? 0.01 : 0.5);
         if (exact) {
-          EXPECT_LE(p.at("delta_e_d65").get<double>(), 0.01);
           EXPECT_LE(p.at("relative_xyz_error").get<double>(), 1e-5);
           // Patches inside the space come back to their measured colour under D65 too.
           if (!p.at("clipped").get<bool>())
@@ -208,6 +208,7 @@ TEST(Validation, TablesAreExactUnderD65ForEveryConfigurationAndSet) {
   EXPECT_TRUE(smooth) << "the smooth model is a row of the table";
   EXPECT_TRUE(natural) << "the natural model is a row of the table";
   EXPECT_TRUE(neighbour) << "the nearest-neighbour reference is a row of the table";
+  EXPECT_TRUE(fit) << "rgb2spec is a row of the table";
   // The RGB renderer's baseline, per space and set, on the same patches, under every light.
   ASSERT_EQ(doc.at("rgb_renderer").size(), 4u);
   for (const auto& b : doc.at("rgb_renderer")) {
@@ -220,46 +221,76 @@ TEST(Validation, TablesAreExactUnderD65ForEveryConfigurationAndSet) {
   EXPECT_NE(r.out.find("| set | configuration | space |"), std::string::npos);
 }
 
-// The metamerism regression (the protocol of the README's model table: Linear Rec.2020, so no
-// patch is clipped): the natural model beats rgb2spec (Jakob & Hanika 2019, pbrt-v4's Rec.2020
-// table; numbers measured outside this project with the same protocol) in median and p95 under
-// A and FL11 on both development sets, and stays within 0.05 of the values measured when it was
-// made the default (a regression would move them).
-TEST(Validation, NaturalModelBeatsRgb2specUnderOtherLights) {
-  e2e::Scratch dir("validation_natural");
-  const std::string out = dir / "v";
-  const e2e::Run r = run_figures("validate " + out, dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json doc = nlohmann::json::parse(e2e::slurp(out + "/validation.json"));
+// One configuration's summary of one set: {"delta_e": {light: {median, p95, max}}, ...}.
+const nlohmann::json& summary_of(const nlohmann::json& doc, const std::string& name_part,
+                                 const std::string& space, const std::string& set) {
+  for (const auto& c : doc.at("configurations"))
+    if (c.at("name").get<std::string>().find(name_part) != std::string::npos &&
+        c.at("space") == space)
+      for (const auto& s : c.at("sets"))
+        if (s.at("name") == set) return s.at("summary");
+  throw std::runtime_error("no row " + name_part + " / " + space + " / " + set);
+}
+
+// The natural model against rgb2spec (Jakob & Hanika 2019, the project's baseline fitted per
+// colour) on both development sets in both spaces: ahead in every median under all six lights,
+// and in every p95 under A, FL11 and LED-B3 (under HP1 and FL2 rgb2spec's p95 is lower on the
+// ColorChecker, docs/MODEL_STUDY.md). The baseline itself within 0.03 of the numbers measured
+// outside this project with the same protocol (Linear Rec.2020, so no patch is clipped: A and
+// FL11 median / p95), pbrt-v4's 64^3 table within 0.05 of the direct fit, and the natural model
+// within 0.05 of the values measured when it was made the default (a regression would move them).
+void check_natural_against_rgb2spec(const nlohmann::json& doc) {
   struct Expect {
     const char* set;
-    double rgb2spec[4];  // A median, A p95, FL11 median, FL11 p95
+    double rgb2spec[4];  // A median, A p95, FL11 median, FL11 p95 (Rec.2020)
     double natural[4];   // as measured
   };
   const Expect expected[] = {
       {"ColorChecker", {1.15, 2.79, 1.17, 2.86}, {0.838, 2.46, 0.675, 2.23}},
       {"AMPAS 190", {1.23, 3.62, 1.67, 4.28}, {1.13, 3.08, 1.12, 2.99}},
   };
-  bool found = false;
-  for (const auto& c : doc.at("configurations")) {
-    if (c.at("model") != "natural" || c.at("space") != "Linear Rec.2020") continue;
-    found = true;
-    for (const auto& set : c.at("sets"))
-      for (const Expect& e : expected) {
-        if (set.at("name") != e.set) continue;
-        SCOPED_TRACE(e.set);
-        const auto& s = set.at("summary");
-        EXPECT_EQ(s.at("clipped_patches").get<int>(), 0);
-        const auto& d = s.at("delta_e");
-        const double got[4] = {d["A"]["median"], d["A"]["p95"], d["FL11"]["median"],
-                               d["FL11"]["p95"]};
-        for (int k = 0; k < 4; ++k) {
-          EXPECT_LT(got[k], e.rgb2spec[k]) << "statistic " << k;
-          EXPECT_NEAR(got[k], e.natural[k], 0.05) << "statistic " << k;
-        }
+  int ahead = 0, numbers = 0;
+  for (const std::string space : {"Linear Rec.709 (sRGB)", "Linear Rec.2020"})
+    for (const Expect& e : expected) {
+      SCOPED_TRACE(space + " / " + e.set);
+      const auto& nat = summary_of(doc, "natural", space, e.set);
+      const auto& fit = summary_of(doc, "rgb2spec, fitted", space, e.set).at("delta_e");
+      const auto& table = summary_of(doc, "rgb2spec, 64", space, e.set).at("delta_e");
+      const auto& n = nat.at("delta_e");
+      for (const std::string& l : kLights) {
+        SCOPED_TRACE(l);
+        const double n50 = n[l]["median"], n95 = n[l]["p95"], nmax = n[l]["max"];
+        const double f50 = fit[l]["median"], f95 = fit[l]["p95"], fmax = fit[l]["max"];
+        EXPECT_LT(n50, f50);
+        if (l == "A" || l == "FL11" || l == "LED-B3") EXPECT_LT(n95, f95);
+        EXPECT_NEAR(table[l]["median"].get<double>(), f50, 0.05);
+        ahead += (n50 < f50) + (n95 < f95) + (nmax < fmax);
+        numbers += 3;
       }
-  }
-  EXPECT_TRUE(found);
+      if (space != "Linear Rec.2020") continue;
+      EXPECT_EQ(nat.at("clipped_patches").get<int>(), 0);
+      const double got[4] = {n["A"]["median"], n["A"]["p95"], n["FL11"]["median"],
+                             n["FL11"]["p95"]};
+      const double base[4] = {fit["A"]["median"], fit["A"]["p95"], fit["FL11"]["median"],
+                              fit["FL11"]["p95"]};
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_NEAR(base[k], e.rgb2spec[k], 0.03) << "statistic " << k;
+        EXPECT_NEAR(got[k], e.natural[k], 0.05) << "statistic " << k;
+      }
+    }
+  std::printf("  natural ahead of rgb2spec on %d of %d numbers (median, p95, max)\n", ahead,
+              numbers);
+}
+
+// One run of `validate` for both checks (it builds two 64^3 rgb2spec tables: CI time).
+TEST(Validation, TablesAreExactAndTheNaturalModelLeadsRgb2spec) {
+  e2e::Scratch dir("validation");
+  const std::string out = dir / "validation";
+  const e2e::Run r = run_figures("validate " + out, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(e2e::slurp(out + "/validation.json"));
+  check_tables(doc, e2e::slurp(out + "/validation.md"), r);
+  check_natural_against_rgb2spec(doc);
 }
 
 }  // namespace
