@@ -26,6 +26,20 @@ void for_each_pair_normal(std::span<const Xyz> w, Fn&& fn) {
     }
 }
 
+// Whether some half-space n_f . t <= offset_f + tol is violated. No early exit and no branch,
+// so the loop is vectorised (AVX2 and baseline x86-64, picked at load time): the solid of the
+// 5 nm grid has 6480 half-spaces, ~1 us.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+bool any_violated(const double* nx, const double* ny, const double* nz, const double* offsets,
+                  std::size_t n, const Xyz& t, double tol) {
+  int violated = 0;
+  for (std::size_t f = 0; f < n; ++f)
+    violated |= nx[f] * t.X + ny[f] * t.Y + nz[f] * t.Z > offsets[f] + tol;
+  return violated != 0;
+}
+
 double magnitude(std::span<const Xyz> w) {
   Xyz sum;
   for (const Xyz& c : w) sum = sum + c;
@@ -41,9 +55,9 @@ ConvexGamut ConvexGamut::spectral_locus(std::span<const Xyz> weights) {
   for_each_pair_normal(weights, [&](const Xyz& n, double pos, double neg) {
     // A facet of the cone: every generator on one side of the plane through c_i, c_j.
     if (neg <= tol)
-      g.normals_.push_back(Xyz{} - n), g.offsets_.push_back(0.0);
+      g.add(Xyz{} - n, 0.0);
     else if (pos <= tol)
-      g.normals_.push_back(n), g.offsets_.push_back(0.0);
+      g.add(n, 0.0);
   });
   return g;
 }
@@ -53,29 +67,34 @@ ConvexGamut ConvexGamut::reflectance_solid(std::span<const Xyz> weights) {
   g.scale_ = magnitude(weights);
   for_each_pair_normal(weights, [&](const Xyz& n, double pos, double neg) {
     // Support of the zonotope in direction n is the sum of the positive parts of n . c_m.
-    g.normals_.push_back(n);
-    g.offsets_.push_back(pos);
-    g.normals_.push_back(Xyz{} - n);
-    g.offsets_.push_back(neg);
+    g.add(n, pos);
+    g.add(Xyz{} - n, neg);
   });
   return g;
 }
 
+void ConvexGamut::add(const Xyz& normal, double offset) {
+  nx_.push_back(normal.X);
+  ny_.push_back(normal.Y);
+  nz_.push_back(normal.Z);
+  offsets_.push_back(offset);
+}
+
 bool ConvexGamut::contains(const Xyz& t) const {
   const double tol = 1e-12 * std::max(scale_, t.max_abs());
-  for (std::size_t f = 0; f < normals_.size(); ++f)
-    if (dot(normals_[f], t) > offsets_[f] + tol) return false;
-  return true;
+  return !any_violated(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), offsets_.size(), t,
+                       tol);
 }
 
 double ConvexGamut::max_step(const Xyz& from, const Xyz& to) const {
   double s = 1.0;
   const Xyz d = to - from;
-  for (std::size_t f = 0; f < normals_.size(); ++f) {
-    double at_to = dot(normals_[f], to);
+  for (std::size_t f = 0; f < offsets_.size(); ++f) {
+    const Xyz n = normal(f);
+    double at_to = dot(n, to);
     if (at_to <= offsets_[f]) continue;
-    double slack = offsets_[f] - dot(normals_[f], from);  // >= 0 when from is inside
-    double rate = dot(normals_[f], d);
+    double slack = offsets_[f] - dot(n, from);  // >= 0 when from is inside
+    double rate = dot(n, d);
     if (rate > 0) s = std::min(s, std::max(slack, 0.0) / rate);
   }
   return s;

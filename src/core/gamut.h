@@ -24,12 +24,14 @@ class ConvexGamut {
   /// Cost: O(facets).
   double max_step(const Xyz& from, const Xyz& to) const;
   /// Number of facet half-spaces. Cost: O(1).
-  std::size_t facets() const { return normals_.size(); }
+  std::size_t facets() const { return offsets_.size(); }
 
  private:
-  std::vector<Xyz> normals_;     // unit outward normals n_f
-  std::vector<double> offsets_;  // inside: n_f . t <= offsets_f
-  double scale_ = 1;             // typical magnitude of the gamut, for tolerances
+  void add(const Xyz& normal, double offset);
+  Xyz normal(std::size_t f) const { return {nx_[f], ny_[f], nz_[f]}; }
+  std::vector<double> nx_, ny_, nz_;  // unit outward normals n_f (structure of arrays)
+  std::vector<double> offsets_;       // inside: n_f . t <= offsets_f
+  double scale_ = 1;                  // typical magnitude of the gamut, for tolerances
 };
 
 }  // namespace spectralize
