@@ -7,7 +7,7 @@
 #include "core/colorimetry.h"
 #include "core/error.h"
 #include "core/spectralizer.h"
-#include "figures/colour_difference.h"
+#include "core/colour_difference.h"
 
 namespace spectralize::baseline {
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/exemplar_model.h"
 #include "core/natural_model.h"
 #include "core/paper_model.h"
 #include "core/smooth_model.h"
@@ -16,8 +17,8 @@ bool ModelInfo::uses(std::string_view setting) const {
 }
 
 const std::vector<ModelInfo>& spectrum_models() {
-  static const std::vector<ModelInfo> models = {natural_model_info(), smooth_model_info(),
-                                                paper_model_info()};
+  static const std::vector<ModelInfo> models = {natural_model_info(), exemplar_model_info(),
+                                                smooth_model_info(), paper_model_info()};
   return models;
 }
 

@@ -6,7 +6,7 @@
 
 #include "baseline/sigmoid_spectrum.h"
 #include "core/bounded_projection.h"
-#include "figures/colour_difference.h"
+#include "core/colour_difference.h"
 
 namespace spectralize::figures {
 

@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "core/colour_difference.h"
 #include "core/xyz.h"
-#include "figures/colour_difference.h"
 
 namespace spectralize::figures {
 

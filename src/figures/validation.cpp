@@ -6,10 +6,11 @@
 #include <memory>
 
 #include "core/colorimetry.h"
+#include "core/colour_difference.h"
 #include "core/error.h"
+#include "core/exemplar_model.h"
 #include "core/sample_weights.h"
 #include "core/spectrum_model.h"
-#include "figures/colour_difference.h"
 #include "figures/reference_rows.h"
 
 namespace spectralize::figures {
@@ -243,6 +244,39 @@ class ModelReconstruction final : public Reconstruction {
   Spectralizer sp_;
 };
 
+// The exemplar model, cross-validated: its exemplars are the development sets, so each set is
+// scored with the other set as the library (else every patch would find its own measurement).
+// Built on the protocol's weights; the patches' colours are inside the solid, as the model
+// requires (no gamut mapping needed).
+class CrossValidatedExemplar final : public Reconstruction {
+ public:
+  explicit CrossValidatedExemplar(const RowContext& context) : protocol_(*context.protocol) {
+    const WavelengthGrid& grid = protocol_.settings().grid;
+    for (std::size_t i = 0; i < grid.size(); ++i) nm_.push_back(grid[i]);
+    ModelContext mc;
+    mc.columns = protocol_.weights().columns();
+    mc.wavelengths = nm_;
+    mc.step_nm = grid.step();
+    for (const PatchSet& scored : validation_sets()) {
+      std::vector<std::string> others;
+      for (const std::string& file : development_set_files())
+        if (file != scored.file) others.push_back(file);
+      models_.push_back(std::make_unique<ExemplarModel>(mc, development_reflectances(nm_, others)));
+    }
+  }
+  Reconstructed reconstruct(std::size_t set, std::size_t, const std::array<double, 3>&,
+                            const Xyz& xyz_d65) const override {
+    ModelSolution s = models_.at(set)->solve(protocol_.target_of(xyz_d65), 1.0);
+    for (double& v : s.values) v = std::clamp(v, 0.0, 1.0);
+    return {std::move(s.values), s.converged ? "ok" : "not_converged"};
+  }
+
+ private:
+  const Spectralizer& protocol_;
+  std::vector<double> nm_;
+  std::vector<std::unique_ptr<ExemplarModel>> models_;  // per validation set: the others' exemplars
+};
+
 SpectralizerSettings model_settings(const std::string& model, const EdgeFilter& filter, Mode mode) {
   SpectralizerSettings settings;
   settings.model = model;
@@ -255,6 +289,14 @@ ValidationConfig model_row(std::string name, std::string model, EdgeFilter filte
   ValidationConfig c{std::move(name), model, filter, true, {}};
   c.make = [model, filter](const RowContext&) -> std::unique_ptr<Reconstruction> {
     return std::make_unique<ModelReconstruction>(model_settings(model, filter, Mode::reflectance));
+  };
+  return c;
+}
+
+ValidationConfig exemplar_row(std::string name) {
+  ValidationConfig c{std::move(name), "exemplar", default_edge_filter(), true, {}};
+  c.make = [](const RowContext& context) -> std::unique_ptr<Reconstruction> {
+    return std::make_unique<CrossValidatedExemplar>(context);
   };
   return c;
 }
@@ -274,7 +316,9 @@ std::vector<ValidationConfig> validation_configs() {
       model_row("paper, filter 0.5", "paper", EdgeFilter::parse("0.5")),
       model_row("paper, filter 0.9", "paper", EdgeFilter::parse("0.9")),
       model_row("smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()),
-      model_row("natural" + std::string(tag("natural")), "natural", default_edge_filter())};
+      model_row("natural" + std::string(tag("natural")), "natural", default_edge_filter()),
+      exemplar_row("exemplar" + std::string(tag("exemplar")) +
+                   " (cross-validated: each set with the other's exemplars)")};
   for (ValidationConfig& r : reference_rows()) rows.push_back(std::move(r));
   return rows;
 }

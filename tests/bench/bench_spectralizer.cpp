@@ -10,6 +10,7 @@
 
 #include "baseline/sigmoid_spectrum.h"
 #include "bench_colours.h"
+#include "core/exemplar_model.h"
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
 #include "core/spectralizer.h"
@@ -100,11 +101,13 @@ void BM_SumAdmissible(benchmark::State& state) {
 // Full solve of one colour, gamut test included. Paper model: edge filter, exact polish and
 // (reflectance) the rho <= 1 bound. Smooth model: the least-roughness quadratic programme.
 // Natural model: Newton on the link's Lagrangian, the depth, the fallback where it applies.
+// Exemplar model: natural plus the distances to the 214 measured colours (and a projection
+// for the colours near one).
 void BM_FullSolve(benchmark::State& state) {
   SpectralizerSettings s;
   s.grid = grid_for(static_cast<int>(state.range(0)));
   s.mode = state.range(1) ? Mode::reflectance : Mode::emission;
-  const char* models[] = {"paper", "smooth", "natural"};
+  const char* models[] = {"paper", "smooth", "natural", "exemplar"};
   s.model = models[state.range(2)];
   Spectralizer sp(s);
   std::size_t i = 1;  // skip the 6000-lm light in reflectance runs' cycle start
@@ -113,6 +116,23 @@ void BM_FullSolve(benchmark::State& state) {
     if (s.mode == Mode::reflectance && c.Y > 1) c = (0.5 / c.Y) * c;
     benchmark::DoNotOptimize(sp.spectralize(c));
   }
+}
+
+// The exemplar model's worst usual case: reflectances at the measured colours themselves (each
+// of the 214 development patches, as its target), where every solve blends and projects.
+void BM_ExemplarNearMeasured(benchmark::State& state) {
+  SpectralizerSettings s;
+  s.mode = Mode::reflectance;
+  s.model = "exemplar";
+  Spectralizer sp(s);
+  std::vector<double> nm;
+  for (std::size_t k = 0; k < s.grid.size(); ++k) nm.push_back(s.grid[k]);
+  std::vector<Xyz> targets;
+  for (const std::vector<double>& rho : development_reflectances(nm))
+    targets.push_back(sp.weights().integrate(rho));
+  std::size_t i = 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(sp.spectralize_target(targets[i++ % targets.size()]));
 }
 
 // Spectral synthesis alone with a warm table: one pixel's spectrum from its colour (target,
@@ -212,7 +232,7 @@ BENCHMARK(BM_TableSynthesis)
 BENCHMARK(BM_NaiveInverses)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SumAdmissible)->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FullSolve)
-    ->ArgNames({"step", "reflectance", "model"})  // model: 0 paper, 1 smooth, 2 natural
+    ->ArgNames({"step", "reflectance", "model"})  // 0 paper, 1 smooth, 2 natural, 3 exemplar
     ->Args({10, 0, 0})
     ->Args({5, 0, 0})
     ->Args({5, 1, 0})
@@ -225,6 +245,9 @@ BENCHMARK(BM_FullSolve)
     ->Args({5, 0, 2})
     ->Args({5, 1, 2})
     ->Args({1, 0, 2})
+    ->Args({5, 0, 3})
+    ->Args({5, 1, 3})
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ExemplarNearMeasured)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

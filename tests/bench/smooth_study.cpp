@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "core/colorimetry.h"
+#include "core/colour_difference.h"
 #include "core/sample_weights.h"
 #include "core/smooth_solver.h"
 #include "core/spectralizer.h"
-#include "figures/colour_difference.h"
 
 using namespace spectralize;
 

@@ -1,6 +1,6 @@
-// The models beyond the paper (--model smooth, --model natural) and the emission basis
+// The models beyond the paper (--model smooth, natural, exemplar) and the emission basis
 // (--emission-basis): the same promises as the paper model (exact under the reference
-// integration, non-negative, a reflectance <= 1, gamut mapping reported), for both models by
+// integration, non-negative, a reflectance <= 1, gamut mapping reported), for each model by
 // the parametrised tests; plus the smooth model's optimality: the spectrum meets the KKT
 // conditions of "least roughness among the exact bounded spectra", checked here from the
 // definition of the roughness, independently of the solver (the natural model's optimality is
@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "core/colour_difference.h"
 #include "core/smooth_solver.h"
 #include "core/spectralizer.h"
-#include "figures/colour_difference.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 
@@ -44,7 +44,13 @@ Spectralizer make_smooth(Mode mode, const char* grid = "380:780:5", const char* 
 
 // The promises both bounded models keep, run for each.
 class BoundedModel : public testing::TestWithParam<std::string> {};
-INSTANTIATE_TEST_SUITE_P(Models, BoundedModel, testing::Values("smooth", "natural"),
+INSTANTIATE_TEST_SUITE_P(Models, BoundedModel, testing::Values("smooth", "natural", "exemplar"),
+                         [](const auto& info) { return info.param; });
+
+// The promises that follow from minimising a roughness alone (the exemplar model takes measured
+// shapes near measured colours, exemplar_model_test.cpp).
+class SmoothestModel : public testing::TestWithParam<std::string> {};
+INSTANTIATE_TEST_SUITE_P(Models, SmoothestModel, testing::Values("smooth", "natural"),
                          [](const auto& info) { return info.param; });
 
 // The roughness of the definition: sum of squared first differences plus (tau/h)^2 times the
@@ -180,7 +186,7 @@ TEST_P(BoundedModel, WhiteSurfaceIsThePerfectReflector) {
   for (double v : r.values) EXPECT_EQ(v, 1.0);
 }
 
-TEST_P(BoundedModel, GreySurfacesAreFlatWithoutSnapping) {
+TEST_P(SmoothestModel, GreySurfacesAreFlatWithoutSnapping) {
   // A flat spectrum (x or its link z) has zero roughness, so every grey is flat by optimality
   // alone (the white snap does not apply at 50%): 1e-6 relative (the solvers' ridges).
   const Spectralizer sp = make_model(GetParam(), Mode::reflectance);

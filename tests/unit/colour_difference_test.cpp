@@ -1,14 +1,19 @@
 // CIELAB and CIEDE2000 against published values: the 34 test pairs of Sharma, Wu & Dalal,
 // "The CIEDE2000 color-difference formula: implementation notes, supplementary test data, and
 // mathematical observations", Color Res. Appl. 30 (2005), Table 1 (typed in from the paper; they
-// are the independent check), and CIELAB of a few XYZ values worked out by hand from CIE 015.
+// are the independent check), and CIELAB of a few XYZ values worked out by hand from CIE 015;
+// CIEDE2000's local metric (the exemplar model's distance) against CIEDE2000 itself at small
+// steps.
 
-#include "figures/colour_difference.h"
+#include "core/colour_difference.h"
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
 
 namespace spectralize {
 namespace {
@@ -93,6 +98,46 @@ TEST(ColourDifference, LabOfSrgbRedUnderD65) {
   EXPECT_NEAR(red.L, 53.24, 0.01);
   EXPECT_NEAR(red.a, 80.09, 0.01);
   EXPECT_NEAR(red.b, 67.20, 0.01);
+}
+
+TEST(ColourDifference, LocalMetricIsCiede2000AtSmallSteps) {
+  // delta_e_2000(at, at + eps d) / eps -> sqrt(d^T Q d) as eps -> 0, for colours of every kind:
+  // neutrals (where the hue is undefined), near-neutrals (a* stretch), saturated colours and
+  // blues near h = 275 (the rotation term R_T), light and dark (S_L), in random directions.
+  // Measured at eps = 1e-5 (the remainder is O(eps)): 1e-3 relative.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Lab> colours = {{50, 0, 0}, {20, 0.3, -0.2}, {90, 0, 0}, {50, 2.5, 0}};
+  for (int k = 0; k < 200; ++k) colours.push_back({50 + 45 * u(rng), 80 * u(rng), 80 * u(rng)});
+  for (double h = 255; h <= 295; h += 5)  // around CIEDE2000's blue rotation
+    colours.push_back({40, 50 * std::cos(h * M_PI / 180), 50 * std::sin(h * M_PI / 180)});
+  double worst = 0;
+  for (const Lab& at : colours) {
+    const LabMetric q = ciede2000_metric(at);
+    for (int k = 0; k < 10; ++k) {
+      double d[3] = {u(rng), u(rng), u(rng)};
+      const double eps = 1e-5;
+      const double de = delta_e_2000(at, {at.L + eps * d[0], at.a + eps * d[1], at.b + eps * d[2]});
+      const double local = std::sqrt(q.squared(d[0], d[1], d[2]));
+      const double rel = std::abs(de / eps - local) / local;
+      worst = std::max(worst, rel);
+      EXPECT_LE(rel, 1e-3) << "at " << at.L << ", " << at.a << ", " << at.b;
+    }
+  }
+  std::printf("  worst relative difference %.1e\n", worst);
+}
+
+TEST(ColourDifference, LocalMetricIsContinuousWhereCiede2000Jumps) {
+  // Sharma's pairs 9..12: a hue difference crossing 180 degrees moves CIEDE2000 by 0.04 (the
+  // mean hue wraps). The local metric at the first colour of the pair moves by O(the step).
+  const Lab at{50, 2.49, -0.001};
+  const LabMetric q = ciede2000_metric(at);
+  auto dist = [&](const Lab& other) {
+    return std::sqrt(q.squared(other.L - at.L, other.a - at.a, other.b - at.b));
+  };
+  EXPECT_NEAR(delta_e_2000(at, {50, -2.49, 0.0011}) - delta_e_2000(at, {50, -2.49, 0.0009}), 0.0403,
+              1e-4);
+  EXPECT_LT(std::abs(dist({50, -2.49, 0.0011}) - dist({50, -2.49, 0.0009})), 1e-3);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "figures/colour_difference.h"
+#include "core/colour_difference.h"
 
 #include <cmath>
 #include <numbers>
@@ -21,6 +21,18 @@ double hue_degrees(double b, double a) {
   if (a == 0 && b == 0) return 0;
   double h = std::atan2(b, a) * kDegrees;
   return h < 0 ? h + 360 : h;
+}
+
+// CIEDE2000's T(h'), Sharma's eq. 15 (h' in degrees).
+double hue_weight(double h) {
+  return 1 - 0.17 * std::cos((h - 30) / kDegrees) + 0.24 * std::cos(2 * h / kDegrees) +
+         0.32 * std::cos((3 * h + 6) / kDegrees) - 0.20 * std::cos((4 * h - 63) / kDegrees);
+}
+
+// 2 sqrt(C^7 / (C^7 + 25^7)): twice the chroma weight of G and R_C.
+double chroma_saturation(double c) {
+  const double c7 = std::pow(c, 7);
+  return 2 * std::sqrt(c7 / (c7 + std::pow(25.0, 7)));
 }
 
 }  // namespace
@@ -69,9 +81,7 @@ double delta_e_2000(const Lab& lab1, const Lab& lab2) {
     else
       h_mean = h_mean < 360 ? (h_mean + 360) / 2 : (h_mean - 360) / 2;
   }
-  const double t =
-      1 - 0.17 * std::cos((h_mean - 30) / kDegrees) + 0.24 * std::cos(2 * h_mean / kDegrees) +
-      0.32 * std::cos((3 * h_mean + 6) / kDegrees) - 0.20 * std::cos((4 * h_mean - 63) / kDegrees);
+  const double t = hue_weight(h_mean);
   const double d_theta = 30 * std::exp(-std::pow((h_mean - 275) / 25, 2));
   const double c_mean_7 = std::pow(c_mean, 7);
   const double rc = 2 * std::sqrt(c_mean_7 / (c_mean_7 + std::pow(25.0, 7)));
@@ -84,6 +94,32 @@ double delta_e_2000(const Lab& lab1, const Lab& lab2) {
   // 4. The difference, with the rotation term for blue hues.
   const double tl = dl / sl, tc = dc / sc, th = dhh / sh;
   return std::sqrt(tl * tl + tc * tc + th * th + rt * tc * th);
+}
+
+LabMetric ciede2000_metric(const Lab& at) {
+  // The pair's means are the colour itself; to first order in the step d, dL' = dL,
+  // (dC', dH') = the radial and tangential parts of the stretched step ((1 + G) da, db).
+  const double c = std::hypot(at.a, at.b);
+  const double g = 0.5 * (1 - 0.5 * chroma_saturation(c));
+  const double ap = (1 + g) * at.a;
+  const double cp = std::hypot(ap, at.b);
+  const double hp = hue_degrees(at.b, ap);
+  const double l50 = (at.L - 50) * (at.L - 50);
+  const double sl = 1 + 0.015 * l50 / std::sqrt(20 + l50);
+  const double sc = 1 + 0.045 * cp;
+  const double sh = 1 + 0.015 * cp * hue_weight(hp);
+  const double d_theta = 30 * std::exp(-std::pow((hp - 275) / 25, 2));
+  const double rt = -std::sin(2 * d_theta / kDegrees) * chroma_saturation(cp);
+  // Radial unit vector u (any for a neutral, where S_C = S_H = 1 and R_T = 0 make the form
+  // isotropic) and tangential v = (-u_b, u_a); the form on (dC', dH') is
+  // [[1/S_C^2, R_T/(2 S_C S_H)], [R_T/(2 S_C S_H), 1/S_H^2]].
+  const double ua = cp > 0 ? ap / cp : 1.0, ub = cp > 0 ? at.b / cp : 0.0;
+  const double kc = 1 / (sc * sc), kh = 1 / (sh * sh), kx = rt / (2 * sc * sh);
+  // M = [u v] K [u v]^T on (da', db), then the stretch da' = (1 + G) da.
+  const double m_aa = kc * ua * ua - 2 * kx * ua * ub + kh * ub * ub;
+  const double m_ab = kc * ua * ub + kx * (ua * ua - ub * ub) - kh * ua * ub;
+  const double m_bb = kc * ub * ub + 2 * kx * ua * ub + kh * ua * ua;
+  return {1 / (sl * sl), (1 + g) * (1 + g) * m_aa, (1 + g) * m_ab, m_bb};
 }
 
 }  // namespace spectralize
