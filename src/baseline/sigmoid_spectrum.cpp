@@ -5,9 +5,9 @@
 #include <thread>
 
 #include "core/colorimetry.h"
+#include "core/colour_difference.h"
 #include "core/error.h"
 #include "core/spectralizer.h"
-#include "core/colour_difference.h"
 
 namespace spectralize::baseline {
 

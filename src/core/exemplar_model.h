@@ -41,7 +41,7 @@ class ExemplarModel final : public SpectrumModel {
   /// the natural spectrum), projection_failed (the projection did not converge and the natural
   /// spectrum was kept: not continuous; not seen on any colour tested). Thread-safe.
   /// Cost: the natural solve plus ~1 us for the distances (214 exemplars) and, within h of an
-  /// exemplar, one projection (~2 us).
+  /// exemplar, one projection (~3 us).
   ModelSolution solve(const Xyz& target, double upper) const override;
 
  private:

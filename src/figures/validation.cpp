@@ -17,33 +17,25 @@ namespace spectralize::figures {
 
 namespace {
 
-constexpr std::string_view kCheckerFile = "colorchecker_n_ohta_5nm.csv";
-constexpr std::string_view kAmpasFile = "ampas_rawtoaces_190_patches_5nm.csv";
-
+// The set's measured reflectances on the grid: the core's resampling (the exemplar model's
+// own), refused where the data do not cover the grid (no extension by end values here).
 std::vector<MeasuredPatch> load_patches(const PatchSet& set, const WavelengthGrid& grid) {
-  std::vector<MeasuredPatch> patches;
-  for (const std::string& name : embedded_columns(set.file)) {
+  const std::vector<std::string> names = embedded_columns(set.file);
+  for (const std::string& name : names) {
     const auto [nm, values] = embedded_column(set.file, name);
     if (nm.front() > grid.start() || nm.back() < grid.end())
       throw Error("'" + set.file + "' covers " + std::to_string(nm.front()) + ".." +
                   std::to_string(nm.back()) + " nm, not the grid " + grid.to_string());
-    MeasuredPatch p{name, std::vector<double>(grid.size())};
-    for (std::size_t i = 0; i < grid.size(); ++i) {
-      const double l = grid[i];
-      const std::size_t j =
-          static_cast<std::size_t>(std::upper_bound(nm.begin(), nm.end(), l) - nm.begin());
-      if (j >= nm.size()) {
-        p.rho[i] = values.back();
-        continue;
-      }
-      const double t = (l - nm[j - 1]) / (nm[j] - nm[j - 1]);
-      p.rho[i] = (1 - t) * values[j - 1] + t * values[j];
-    }
-    patches.push_back(std::move(p));
   }
-  if (patches.size() != set.count)
-    throw Error("'" + set.file + "' has " + std::to_string(patches.size()) + " patches, expected " +
+  std::vector<double> wavelengths;
+  for (std::size_t i = 0; i < grid.size(); ++i) wavelengths.push_back(grid[i]);
+  std::vector<std::vector<double>> rho =
+      development_reflectances(wavelengths, std::span<const std::string>(&set.file, 1));
+  if (rho.size() != set.count || names.size() != set.count)
+    throw Error("'" + set.file + "' has " + std::to_string(rho.size()) + " patches, expected " +
                 std::to_string(set.count));
+  std::vector<MeasuredPatch> patches;
+  for (std::size_t k = 0; k < rho.size(); ++k) patches.push_back({names[k], std::move(rho[k])});
   return patches;
 }
 
@@ -317,8 +309,8 @@ std::vector<ValidationConfig> validation_configs() {
       model_row("paper, filter 0.9", "paper", EdgeFilter::parse("0.9")),
       model_row("smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()),
       model_row("natural" + std::string(tag("natural")), "natural", default_edge_filter()),
-      exemplar_row("exemplar" + std::string(tag("exemplar")) +
-                   " (cross-validated: each set with the other's exemplars)")};
+      exemplar_row(std::string("exemplar") + (def == "exemplar" ? " (default;" : " (") +
+                   " cross-validated: each set with the other's exemplars)")};
   for (ValidationConfig& r : reference_rows()) rows.push_back(std::move(r));
   return rows;
 }
@@ -328,8 +320,8 @@ std::vector<std::string> validation_spaces() {
 }
 
 std::vector<PatchSet> validation_sets() {
-  return {{"ColorChecker", std::string(kCheckerFile), 24},
-          {"AMPAS 190", std::string(kAmpasFile), 190}};
+  const std::vector<std::string> files = development_set_files();  // ColorChecker first
+  return {{"ColorChecker", files.at(0), 24}, {"AMPAS 190", files.at(1), 190}};
 }
 
 Spread spread(std::vector<double> v) {

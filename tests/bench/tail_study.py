@@ -299,7 +299,7 @@ class Study:
     def picked(picks, grid):
         if len(grid) == 1:
             return ""
-        return "picked: " + ", ".join(f"{OTHER[h]} → {picks[h]}" for h in SETS)
+        return "; ".join(f"fitted on {OTHER[h]}: {picks[h]}" for h in SETS)
 
     def add(self, name, cells, note):
         self.rows.append((name, note, cells))
@@ -621,16 +621,21 @@ def main():
     for name, cells in ref_cells.items():
         s, p = score(cells)
         print(f"reference: {name}: S = {s:.3f}, worst p95 {p:.2f}")
-    name, _, cells = candidates[winner]
     nat = candidates[0][2]
-    s, p = score(cells)
     s0, p0 = score(nat)
-    print(f"\nwinner by the rule: {name} (S = {s:.3f}, worst p95 {p:.2f}; natural {s0:.3f}, {p0:.2f})")
-    if name != "natural":
+    ws, wp = score(candidates[winner][2])
+    # Every candidate that ties the winner on both criteria (the rule cannot tell them apart).
+    tied = [k for k in range(len(candidates))
+            if abs(score(candidates[k][2])[0] - ws) < 0.005 and abs(score(candidates[k][2])[1] - wp) < 0.005]
+    print(f"\nwinner by the rule: {candidates[winner][0]} (S = {ws:.3f}, worst p95 {wp:.2f}; natural "
+          f"{s0:.3f}, {p0:.2f}); tied with it on both: " + ", ".join(candidates[k][0] for k in tied))
+    for k in tied:
+        name, _, cells = candidates[k]
+        s, p = score(cells)
         worse = [c for c in cells if cells[c][0] > nat[c][0] + 0.05 or cells[c][1] > nat[c][1] + 0.2]
-        print(f"  registered if exact etc.: {s < s0}; default: {s <= s0 - 0.05 and not worse}")
-    for n, _, c in candidates[:1] + [candidates[winner]]:
-        print(f"\n{n}, every cell (median / p95 / max):\n" + full_cells(c))
+        print(f"  {name}: registered (if exact etc.): {s < s0}; default: {s <= s0 - 0.05 and not worse}")
+    for k in [0] + tied:
+        print(f"\n{candidates[k][0]}, every cell (median / p95 / max):\n" + full_cells(candidates[k][2]))
     for n, c in ref_cells.items():
         print(f"\n{n}:\n" + full_cells(c))
     for n, (p, c) in union.items():

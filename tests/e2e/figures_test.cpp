@@ -221,76 +221,92 @@ void check_tables(const nlohmann::json& doc, const std::string& md, const e2e::R
   EXPECT_NE(r.out.find("| set | configuration | space |"), std::string::npos);
 }
 
-// One configuration's summary of one set: {"delta_e": {light: {median, p95, max}}, ...}.
+// One row's summary of one set: {"delta_e": {light: {median, p95, max}}, ...}; the row of the
+// registered model `name_part`, else the first whose name contains it.
 const nlohmann::json& summary_of(const nlohmann::json& doc, const std::string& name_part,
                                  const std::string& space, const std::string& set) {
-  for (const auto& c : doc.at("configurations"))
-    if (c.at("name").get<std::string>().find(name_part) != std::string::npos &&
+  const auto& rows = doc.at("configurations");
+  const bool model = std::any_of(rows.begin(), rows.end(),
+                                 [&](const auto& c) { return c.at("model") == name_part; });
+  for (const auto& c : rows)
+    if ((model ? c.at("model") == name_part
+               : c.at("name").get<std::string>().find(name_part) != std::string::npos) &&
         c.at("space") == space)
       for (const auto& s : c.at("sets"))
         if (s.at("name") == set) return s.at("summary");
   throw std::runtime_error("no row " + name_part + " / " + space + " / " + set);
 }
 
-// The natural model against rgb2spec (Jakob & Hanika 2019, the project's baseline fitted per
-// colour) on both development sets in both spaces: ahead in every median under all six lights,
-// and in every p95 under A, FL11 and LED-B3 (under HP1 and FL2 rgb2spec's p95 is lower on the
-// ColorChecker, docs/MODEL_STUDY.md). The baseline itself within 0.03 of the numbers measured
-// outside this project with the same protocol (Linear Rec.2020, so no patch is clipped: A and
-// FL11 median / p95), pbrt-v4's 64^3 table within 0.05 of the direct fit, and the natural model
-// within 0.05 of the values measured when it was made the default (a regression would move them).
-void check_natural_against_rgb2spec(const nlohmann::json& doc) {
+// The natural and exemplar models against rgb2spec (Jakob & Hanika 2019, the project's baseline
+// fitted per colour) on both development sets in both spaces: ahead in every median under all
+// six lights, and in every p95 under A, FL11 and LED-B3 (under HP1 and FL2 rgb2spec's p95 is
+// lower than natural's on the ColorChecker, docs/MODEL_STUDY.md). The exemplar model (its row
+// cross-validated) no worse than natural in any median by more than 0.05 (the rule that made it
+// the default). The baseline itself within 0.03 of the numbers measured outside this project
+// with the same protocol (Linear Rec.2020, so no patch is clipped: A and FL11 median / p95),
+// pbrt-v4's 64^3 table within 0.05 of the direct fit, and both models within 0.05 of the values
+// measured when the exemplar model was made the default (a regression would move them).
+void check_models_against_rgb2spec(const nlohmann::json& doc) {
   struct Expect {
     const char* set;
     double rgb2spec[4];  // A median, A p95, FL11 median, FL11 p95 (Rec.2020)
     double natural[4];   // as measured
+    double exemplar[4];
   };
   const Expect expected[] = {
-      {"ColorChecker", {1.15, 2.79, 1.17, 2.86}, {0.838, 2.46, 0.675, 2.23}},
-      {"AMPAS 190", {1.23, 3.62, 1.67, 4.28}, {1.13, 3.08, 1.12, 2.99}},
+      {"ColorChecker",
+       {1.15, 2.79, 1.17, 2.86},
+       {0.838, 2.46, 0.675, 2.23},
+       {0.303, 1.41, 0.377, 1.18}},
+      {"AMPAS 190", {1.23, 3.62, 1.67, 4.28}, {1.13, 3.08, 1.12, 2.99}, {0.959, 3.08, 1.07, 2.94}},
   };
-  int ahead = 0, numbers = 0;
-  for (const std::string space : {"Linear Rec.709 (sRGB)", "Linear Rec.2020"})
-    for (const Expect& e : expected) {
-      SCOPED_TRACE(space + " / " + e.set);
-      const auto& nat = summary_of(doc, "natural", space, e.set);
-      const auto& fit = summary_of(doc, "rgb2spec, fitted", space, e.set).at("delta_e");
-      const auto& table = summary_of(doc, "rgb2spec, 64", space, e.set).at("delta_e");
-      const auto& n = nat.at("delta_e");
-      for (const std::string& l : kLights) {
-        SCOPED_TRACE(l);
-        const double n50 = n[l]["median"], n95 = n[l]["p95"], nmax = n[l]["max"];
-        const double f50 = fit[l]["median"], f95 = fit[l]["p95"], fmax = fit[l]["max"];
-        EXPECT_LT(n50, f50);
-        if (l == "A" || l == "FL11" || l == "LED-B3") EXPECT_LT(n95, f95);
-        EXPECT_NEAR(table[l]["median"].get<double>(), f50, 0.05);
-        ahead += (n50 < f50) + (n95 < f95) + (nmax < fmax);
-        numbers += 3;
+  for (const char* model : {"natural", "exemplar"}) {
+    int ahead = 0, numbers = 0;
+    for (const std::string space : {"Linear Rec.709 (sRGB)", "Linear Rec.2020"})
+      for (const Expect& e : expected) {
+        SCOPED_TRACE(std::string(model) + " / " + space + " / " + e.set);
+        const auto& sum = summary_of(doc, model, space, e.set);
+        const auto& n = sum.at("delta_e");
+        const auto& nat = summary_of(doc, "natural", space, e.set).at("delta_e");
+        const auto& fit = summary_of(doc, "rgb2spec, fitted", space, e.set).at("delta_e");
+        const auto& table = summary_of(doc, "rgb2spec, 64", space, e.set).at("delta_e");
+        for (const std::string& l : kLights) {
+          SCOPED_TRACE(l);
+          const double n50 = n[l]["median"], n95 = n[l]["p95"], nmax = n[l]["max"];
+          const double f50 = fit[l]["median"], f95 = fit[l]["p95"], fmax = fit[l]["max"];
+          EXPECT_LT(n50, f50);
+          if (l == "A" || l == "FL11" || l == "LED-B3") EXPECT_LT(n95, f95);
+          EXPECT_LE(n50, nat[l]["median"].get<double>() + 0.05);
+          EXPECT_NEAR(table[l]["median"].get<double>(), f50, 0.05);
+          ahead += (n50 < f50) + (n95 < f95) + (nmax < fmax);
+          numbers += 3;
+        }
+        if (space != "Linear Rec.2020") continue;
+        EXPECT_EQ(sum.at("clipped_patches").get<int>(), 0);
+        const double got[4] = {n["A"]["median"], n["A"]["p95"], n["FL11"]["median"],
+                               n["FL11"]["p95"]};
+        const double base[4] = {fit["A"]["median"], fit["A"]["p95"], fit["FL11"]["median"],
+                                fit["FL11"]["p95"]};
+        const double* want = std::string(model) == "natural" ? e.natural : e.exemplar;
+        for (int k = 0; k < 4; ++k) {
+          EXPECT_NEAR(base[k], e.rgb2spec[k], 0.03) << "statistic " << k;
+          EXPECT_NEAR(got[k], want[k], 0.05) << "statistic " << k;
+        }
       }
-      if (space != "Linear Rec.2020") continue;
-      EXPECT_EQ(nat.at("clipped_patches").get<int>(), 0);
-      const double got[4] = {n["A"]["median"], n["A"]["p95"], n["FL11"]["median"],
-                             n["FL11"]["p95"]};
-      const double base[4] = {fit["A"]["median"], fit["A"]["p95"], fit["FL11"]["median"],
-                              fit["FL11"]["p95"]};
-      for (int k = 0; k < 4; ++k) {
-        EXPECT_NEAR(base[k], e.rgb2spec[k], 0.03) << "statistic " << k;
-        EXPECT_NEAR(got[k], e.natural[k], 0.05) << "statistic " << k;
-      }
-    }
-  std::printf("  natural ahead of rgb2spec on %d of %d numbers (median, p95, max)\n", ahead,
-              numbers);
+    std::printf("  %s ahead of rgb2spec on %d of %d numbers (median, p95, max)\n", model, ahead,
+                numbers);
+  }
 }
 
 // One run of `validate` for both checks (it builds two 64^3 rgb2spec tables: CI time).
-TEST(Validation, TablesAreExactAndTheNaturalModelLeadsRgb2spec) {
+TEST(Validation, TablesAreExactAndTheModelsLeadRgb2spec) {
   e2e::Scratch dir("validation");
   const std::string out = dir / "validation";
   const e2e::Run r = run_figures("validate " + out, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json doc = nlohmann::json::parse(e2e::slurp(out + "/validation.json"));
   check_tables(doc, e2e::slurp(out + "/validation.md"), r);
-  check_natural_against_rgb2spec(doc);
+  check_models_against_rgb2spec(doc);
 }
 
 }  // namespace

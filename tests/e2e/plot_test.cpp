@@ -236,7 +236,7 @@ TEST(PlotColor, SvgHasOnePolylinePointPerSampleDrawingThePrintedSpectrum) {
   expect_curve_is(lines[0], printed_spectrum(args));
   const std::string title = svg_title(svg);
   for (const char* part : {"0.21,0.72,0.15", "Linear Rec.709 (sRGB)", "reflectance", "D65",
-                           "model natural", "400:700:10", "cie1931"})
+                           "model exemplar", "400:700:10", "cie1931"})
     EXPECT_NE(title.find(part), std::string::npos) << part << " missing from title: " << title;
   // Only the settings that matter: the edge filter is the paper model's.
   EXPECT_EQ(title.find("filter"), std::string::npos) << title;

@@ -38,7 +38,7 @@ def test_bad_rgb(sp, rgb, error, message):
         ({"colorspace": "Raw"}, ValueError, r"colorspace 'Raw': is a data space"),
         ({"wavelengths": "380:780:0"}, ValueError, r"spectra\(\): wavelengths"),
         ({"wavelengths": (380, 780, 5)}, TypeError, r"wavelengths: expected a string or a number, got tuple"),
-        ({"model": "magic"}, ValueError, r"spectra\(\): model: unknown model 'magic' \(valid: natural, exemplar, smooth, paper\)"),
+        ({"model": "magic"}, ValueError, r"spectra\(\): model: unknown model 'magic' \(valid: exemplar, natural, smooth, paper\)"),
         ({"illuminant": "D1"}, ValueError, r"spectra\(\): illuminant"),
         ({"threads": -1}, ValueError, r"spectra\(\): threads"),
         ({"threads": True}, TypeError, r"threads: expected a string or a number, got a bool"),
