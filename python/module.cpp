@@ -21,6 +21,7 @@
 #include "io/image_report.h"
 #include "io/ingest.h"
 #include "io/job_settings.h"
+#include "io/shard.h"
 #include "io/table_pool.h"
 #include "py_arrays.h"
 #include "py_options.h"
@@ -259,16 +260,14 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   if (request.sources.empty() && request.inputs_from.empty())
     value_error(kIngestScope, "give the files, folders or patterns to ingest (or inputs_from)");
   if (!shard.empty()) {
-    const auto slash = shard.find('/');
+    // The CLI's parser: the same values accepted and refused (io/shard.h).
     try {
-      request.shard = std::stoi(shard.substr(0, slash));
-      request.shards = std::stoi(shard.substr(slash + 1));
-    } catch (const std::exception&) {
-      request.shards = 0;
+      const ShardSpec spec = parse_shard(shard);
+      request.shard = spec.index;
+      request.shards = spec.count;
+    } catch (const Error& e) {
+      value_error(kIngestScope, std::string("shard ") + e.what());
     }
-    if (slash == std::string::npos || request.shards < 1 || request.shard < 0 ||
-        request.shard >= request.shards)
-      value_error(kIngestScope, "shard " + quote(shard) + ": expected I/N with 0 <= I < N");
   }
   try {
     request.settings = checked_ingest_settings(read_options(options, kIngestScope), kKeywordNames);

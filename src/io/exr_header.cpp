@@ -15,8 +15,9 @@ namespace {
 enum class Parse { complete, incomplete, malformed };
 
 // Parses "magic version (name\0 type\0 size value)* \0" from the first `got` bytes of `b`.
-Parse parse_header(const std::vector<char>& b, std::size_t got,
-                   std::map<std::string, std::string>& out) {
+Parse parse_header(
+    const std::vector<char>& b, std::size_t got, std::map<std::string, std::string>& out,
+    std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents = nullptr) {
   const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
   if (got < 8) return Parse::incomplete;
   if (std::memcmp(b.data(), magic, 4) != 0) return Parse::malformed;
@@ -41,7 +42,10 @@ Parse parse_header(const std::vector<char>& b, std::size_t got,
     std::memcpy(&size, b.data() + at, 4);  // little-endian, as OpenEXR stores it
     at += 4;
     if (size > got - at) return Parse::incomplete;
-    if (type == "string") out[name] = std::string(b.data() + at, size);
+    if (type == "string") {
+      out[name] = std::string(b.data() + at, size);
+      if (extents) (*extents)[name] = {at, size};
+    }
     at += size;
   }
   return Parse::incomplete;
@@ -49,11 +53,13 @@ Parse parse_header(const std::vector<char>& b, std::size_t got,
 
 }  // namespace
 
-std::map<std::string, std::string> exr_string_attributes(const std::string& path) {
-  std::map<std::string, std::string> out;
+namespace {
+
+// Reads the header of `path` (64 KB, more only if it goes on, up to 1 MB) and parses it.
+bool read_header(const std::string& path, std::map<std::string, std::string>& out,
+                 std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return out;
-  // Headers are a few KB: read 64 KB, more only if the header goes on (up to 1 MB).
+  if (fd < 0) return false;
   std::vector<char> b;
   std::size_t got = 0;
   bool complete = false;
@@ -65,13 +71,35 @@ std::map<std::string, std::string> exr_string_attributes(const std::string& path
       got += static_cast<std::size_t>(n);
     }
     out.clear();
-    const Parse p = parse_header(b, got, out);
+    if (extents) extents->clear();
+    const Parse p = parse_header(b, got, out, extents);
     complete = p == Parse::complete;
     if (complete || p == Parse::malformed || got < size) break;  // done, garbage, or cut short
   }
   ::close(fd);
-  if (!complete) out.clear();
+  if (!complete) {
+    out.clear();
+    if (extents) extents->clear();
+  }
+  return complete;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> exr_string_attributes(const std::string& path) {
+  std::map<std::string, std::string> out;
+  read_header(path, out, nullptr);
   return out;
+}
+
+std::optional<std::pair<std::uint64_t, std::uint64_t>> exr_string_attribute_extent(
+    const std::string& path, const std::string& name) {
+  std::map<std::string, std::string> values;
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> extents;
+  if (!read_header(path, values, &extents)) return std::nullopt;
+  auto it = extents.find(name);
+  if (it == extents.end()) return std::nullopt;
+  return it->second;
 }
 
 }  // namespace spectralize

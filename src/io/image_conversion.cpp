@@ -28,7 +28,7 @@ struct ImageConversion::Parts {
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
                                  const Settings& settings, const LogFn& log, TablePool* pool,
-                                 const std::map<std::string, std::string>& attributes)
+                                 const HeaderAttributes& attributes)
     : parts_(std::make_unique<Parts>()) {
   if (settings.integer_bits != 0)
     throw Error("format uint" + std::to_string(settings.integer_bits) +
@@ -43,7 +43,6 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.width = spec.width;
   rep.height = spec.height;
   rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
-  rep.settings = settings;
   const ColourSpaces spaces = ColourSpaces::load(settings.config);
   const InputInterpretation in = interpret_input(input, spec, settings, spaces);
   for (const std::string& w : in.warnings) warn(w);
@@ -52,8 +51,10 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.mode_reason = in.mode_reason;
   rep.alpha = in.channels.alpha >= 0;
   rep.straight_alpha = straight_alpha;
+  // Mode, colour space and preview space as decided for this file: what the header records.
+  rep.settings = resolved_settings(settings, in, spaces);
   Settings& s = rep.settings;
-  s.spectral.mode = in.mode;
+  rep.preview_colorspace = s.preview_colorspace;
   rep.bands = static_cast<int>(s.spectral.grid.size());
   log(1, "'" + input + "': " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
              ", " + std::to_string(spec.nchannels) + " channels, " + spec.format.c_str() + " (" +
@@ -81,14 +82,13 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   std::string date_warning;
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
-  rep.preview_colorspace = s.preview_colorspace.empty() ? default_colour_space(spaces, true).first
-                                                        : spaces.resolve(s.preview_colorspace);
   // Why this colour space and mode, so that whoever reads the file (and an ingest rerun that
   // skips it) can tell; attributes given by the caller come after and win.
   std::map<std::string, std::string> recorded = {
       {"spectralize:colorspaceReason", in.colorspace_reason},
       {"spectralize:modeReason", in.mode_reason}};
-  for (const auto& [name, value] : attributes) recorded[name] = value;
+  if (attributes)
+    for (const auto& [name, value] : attributes(s)) recorded[name] = value;
   p.layout = spectral_exr_layout(
       {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, recorded});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{

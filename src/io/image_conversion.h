@@ -18,6 +18,11 @@
 
 namespace spectralize {
 
+/// More string attributes for an output's header, made from the settings as resolved for the
+/// file (e.g. ingest's up-to-date key).
+using HeaderAttributes =
+    std::function<std::map<std::string, std::string>(const Settings& resolved)>;
+
 class ImageConversion {
  public:
   /// Interprets an input of `spec` (channels, colour space, mode, each with its reason; file
@@ -25,11 +30,12 @@ class ImageConversion {
   /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
   /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file.
   /// `pool`: share the spectralizer and table of a batch (and its cache) instead of building
-  /// them; `attributes`: extra string attributes for the output's header.
+  /// them; `attributes`: extra string attributes for the output's header (they win over the
+  /// conversion's own).
   ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                   const std::string& format_name, bool straight_alpha, const Settings& settings,
                   const LogFn& log, TablePool* pool = nullptr,
-                  const std::map<std::string, std::string>& attributes = {});
+                  const HeaderAttributes& attributes = {});
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

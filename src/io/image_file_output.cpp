@@ -17,7 +17,7 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
     (void)OIIO::geterror();
     throw Error("'" + clip(path, 200) + "': OpenImageIO cannot write this file type");
   }
-  AtomicOutput file(path, inputs);
+  AtomicOutput file(path, WriteRules::named("the image"), inputs);
   OIIO::ImageSpec spec = image.spec();
   spec.set_format(type);
   // Through the checked proxy for the formats whose writers are known to use it correctly

@@ -8,6 +8,7 @@
 #include <functional>
 #include <future>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <thread>
 #include <vector>
@@ -15,10 +16,12 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/colour_tags.h"
+#include "io/exr_header.h"
 #include "io/exr_scanline_writer.h"
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
 #include "io/image_input.h"
+#include "io/json_text.h"
 #include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
 #include "io/safe_output.h"
@@ -88,27 +91,43 @@ class Sink {
   /// Rows [y0, y1) of the data window, relative to its top. Thread: one at a time, in order.
   void write(int y0, int y1, const void* data) {
     const OIIO::ImageSpec& s = ospec_;
-    if (exr_) {
-      exr_->write(s.y + y0, y1 - y0, data);
-    } else {
-      const bool ok =
-          tiled_ ? writer_->write_tiles(s.x, s.x + s.width, s.y + y0, s.y + y1, 0, 1, type_, data)
-                 : writer_->write_scanlines(s.y + y0, s.y + y1, 0, type_, data);
-      if (!ok) throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
-    }
+    with_system_reason([&] {
+      if (exr_) {
+        exr_->write(s.y + y0, y1 - y0, data);
+      } else {
+        const bool ok =
+            tiled_ ? writer_->write_tiles(s.x, s.x + s.width, s.y + y0, s.y + y1, 0, 1, type_, data)
+                   : writer_->write_scanlines(s.y + y0, s.y + y1, 0, type_, data);
+        if (!ok) throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+      }
+    });
     file_.check();
   }
 
   /// Completes the file. Cost: the writer's close.
   void close() {
-    if (exr_) {
-      exr_->close();
-    } else if (!writer_->close()) {
-      throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
-    }
+    with_system_reason([&] {
+      if (exr_) {
+        exr_->close();
+      } else if (!writer_->close()) {
+        throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+      }
+    });
   }
 
  private:
+  // A writer's failure after a write the system refused is reported with the system's reason
+  // ("No space left on device"), not the writer's words for it.
+  template <class Fn>
+  void with_system_reason(Fn&& fn) {
+    try {
+      fn();
+    } catch (const Error&) {
+      file_.check();
+      throw;
+    }
+  }
+
   AtomicOutput& file_;
   const OIIO::ImageSpec& ospec_;
   bool tiled_;
@@ -194,20 +213,59 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 
 }  // namespace
 
+namespace {
+
+// The reserved size of the warnings attribute: room for a dozen warnings naming long paths.
+constexpr std::size_t kWarningsRoom = 4096;
+
+// The warnings as a JSON array of at most `room` bytes (as many whole warnings as fit, then a
+// count of the rest), padded with spaces to exactly `room`.
+std::string warnings_value(const std::vector<std::string>& warnings, std::size_t room) {
+  std::string text = "[]";
+  for (std::size_t kept = warnings.size() + 1; kept-- > 0;) {
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < kept; ++i) list.push_back(utf8_escaped(warnings[i]));
+    if (kept < warnings.size())
+      list.push_back("... and " + std::to_string(warnings.size() - kept) +
+                     " more warnings (in the manifest or report of the run that made the file)");
+    text = dump_json(list);
+    if (text.size() <= room) break;
+  }
+  if (text.size() > room) text = "[]";
+  return text + std::string(room - text.size(), ' ');
+}
+
+}  // namespace
+
+std::vector<std::string> recorded_warnings(const std::string& value) {
+  std::vector<std::string> out;
+  const auto j = nlohmann::ordered_json::parse(value, nullptr, false);
+  if (!j.is_array()) return out;
+  for (const auto& w : j)
+    if (w.is_string()) out.push_back(w.get<std::string>());
+  return out;
+}
+
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
-                          TablePool* pool, const std::map<std::string, std::string>& attributes,
-                          const std::function<void(const ImageReport&)>& before_commit) {
+                          const ImageJobOptions& options) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
   const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
   ImageReader reader(input, out_channels, /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
-  AtomicOutput file(output, std::span<const std::string>(&input, 1));
-  if (!pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
+  AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
+  if (!options.pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
+  // The header keeps room for the warnings, which are known only at the end.
+  const HeaderAttributes attributes = [&](const Settings& resolved) {
+    std::map<std::string, std::string> a;
+    if (options.attributes) a = options.attributes(resolved);
+    a[kWarningsAttribute] = warnings_value({}, kWarningsRoom);
+    return a;
+  };
   ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
-                             settings, log, pool, attributes);
+                             settings, log, options.pool, attributes);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +
@@ -226,9 +284,14 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   rep.seconds_convert = t_convert;
   rep.seconds_write = t_write;
   rep.seconds_total = seconds_since(t_start);
+  // The warnings into the room the header kept for them (same size: nothing moves).
+  const auto extent = exr_string_attribute_extent(file.path(), kWarningsAttribute);
+  if (!extent || extent->second != kWarningsRoom)
+    throw FileError(quote(output, 200) + ": the written header lost its warnings record");
+  file.overwrite(extent->first, warnings_value(rep.warnings, kWarningsRoom));
   // What must succeed with the image (its report) is written first: a failure there leaves
   // nothing at the destination either.
-  if (before_commit) before_commit(rep);
+  if (options.before_commit) options.before_commit(rep);
   file.commit();
   return rep;
 }
@@ -258,7 +321,8 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   if (rep.output_format == "openexr" && settings.integer_bits != 0)
     throw Error("'" + output + "': OpenEXR stores half or float samples, not uint" +
                 std::to_string(settings.integer_bits));
-  AtomicOutput file(output, std::span<const std::string>(&input, 1));
+  AtomicOutput file(output, WriteRules::named("the output"),
+                    std::span<const std::string>(&input, 1));
   limit_threads(settings.threads);
   auto warn = [&](const std::string& message) {
     rep.warnings.push_back(message);

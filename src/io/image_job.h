@@ -7,24 +7,42 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
+#include "io/image_conversion.h"
 #include "io/image_report.h"
 #include "io/job_log.h"
+#include "io/safe_output.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
 
 namespace spectralize {
 
+/// What a caller may add to an image job.
+struct ImageJobOptions {
+  TablePool* pool = nullptr;    // share a batch's tables
+  HeaderAttributes attributes;  // more header attributes, from the settings as resolved
+  WriteRules output = WriteRules::named("the output");    // how `output` may be written
+  std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
+};
+
+/// The header attribute that holds the warnings of the conversion that made the file, as a
+/// JSON array of strings (padded with spaces to a fixed size: written when they are known, at
+/// the end). Cost: O(1).
+inline constexpr const char* kWarningsAttribute = "spectralize:warnings";
+
+/// The warnings recorded in a file's kWarningsAttribute value ("" or malformed: none).
+/// Cost: O(value).
+std::vector<std::string> recorded_warnings(const std::string& value);
+
 /// Converts `input` to the spectral OpenEXR `output`. Never overwrites the input (under any
-/// alias); nothing is left at `output` unless it completed. `pool` shares a batch's tables;
-/// `attributes` are recorded in the output's header; `before_commit` runs with the finished
-/// report before the file is moved into place (a throw there leaves nothing). Throws Error
-/// naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
+/// alias) nor another output of the run; nothing is left at `output` unless it completed. The
+/// header records the settings as resolved for the file and the conversion's warnings;
+/// `before_commit` runs with the finished report before the file is moved into place. Throws
+/// Error naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
-                          TablePool* pool = nullptr,
-                          const std::map<std::string, std::string>& attributes = {},
-                          const std::function<void(const ImageReport&)>& before_commit = {});
+                          const ImageJobOptions& options = {});
 
 /// Integrates the spectral OpenEXR `input` (any writer's) to RGB(A) in settings.colorspace
 /// (resolved by the caller), written to the OpenEXR `output` like run_image_job. Throws Error.

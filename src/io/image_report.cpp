@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_text.h"
+
 namespace spectralize {
 
 namespace {
@@ -50,8 +52,8 @@ std::vector<std::string> count_warnings(const PixelCounts& c, const std::string&
 
 std::string report_json(const ImageReport& r, int indent) {
   Json j;
-  j["input"] = r.input;
-  j["output"] = r.output;
+  put_path(j, "input", r.input);
+  put_path(j, "output", r.output);
   j["input_format"] = r.input_format;
   j["width"] = r.width;
   j["height"] = r.height;
@@ -86,7 +88,7 @@ std::string report_json(const ImageReport& r, int indent) {
                 {"fallbacks", r.cache.fallback_solves},
                 {"fallback_hits", r.cache.fallback_hits}};
   if (!r.cache_file.empty()) {
-    j["cache"]["file"] = r.cache_file;
+    put_path(j["cache"], "file", r.cache_file);
     j["cache"]["status"] = r.cache_status;
   }
   j["warnings"] = r.warnings;
@@ -94,13 +96,13 @@ std::string report_json(const ImageReport& r, int indent) {
                   {"convert", r.seconds_convert},
                   {"write", r.seconds_write},
                   {"total", r.seconds_total}};
-  return j.dump(indent);
+  return dump_json(j, indent);
 }
 
 std::string report_json(const ToRgbReport& r, int indent) {
   Json j;
-  j["input"] = r.input;
-  j["output"] = r.output;
+  put_path(j, "input", r.input);
+  put_path(j, "output", r.output);
   j["output_format"] = r.output_format;
   j["width"] = r.width;
   j["height"] = r.height;
@@ -118,7 +120,7 @@ std::string report_json(const ToRgbReport& r, int indent) {
   j["clipped_pixels"] = r.clipped_pixels;
   j["warnings"] = r.warnings;
   j["seconds"] = r.seconds;
-  return j.dump(indent);
+  return dump_json(j, indent);
 }
 
 }  // namespace spectralize

@@ -338,4 +338,15 @@ InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSp
   return in;
 }
 
+Settings resolved_settings(const Settings& settings, const InputInterpretation& in,
+                           const ColourSpaces& spaces) {
+  Settings s = settings;
+  s.spectral.mode = in.mode;
+  s.colorspace = in.colorspace;
+  s.preview_colorspace = settings.preview_colorspace.empty()
+                             ? default_colour_space(spaces, true).first
+                             : spaces.resolve(settings.preview_colorspace);
+  return s;
+}
+
 }  // namespace spectralize

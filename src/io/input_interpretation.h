@@ -53,6 +53,13 @@ std::string icc_description(const unsigned char* data, std::size_t size);
 InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSpec& spec,
                                     const Settings& settings, const ColourSpaces& spaces);
 
+/// The settings as resolved for one file: its mode and colour space as `in` decided them, and
+/// the preview colour space (settings.preview_colorspace resolved, else the config's
+/// scene_linear role). What its header records and what ingest's up-to-date key hashes
+/// (file_settings). Throws Error for an unknown preview space. Cost: an OCIO look-up.
+Settings resolved_settings(const Settings& settings, const InputInterpretation& in,
+                           const ColourSpaces& spaces);
+
 /// The config's default space for float (scene_linear) or integer data (matte_paint,
 /// color_picking, texture_paint), with the role that gave it; throws Error naming the config
 /// when it has none of them. Cost: O(1).

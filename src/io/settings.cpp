@@ -17,7 +17,7 @@ constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
 constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest;
 
 std::string quoted(std::string_view text) {
-  return "'" + clip(text) + "'";
+  return quote(text);
 }
 
 // A whole number in [lo, hi]; throws Error naming the value.
@@ -99,7 +99,7 @@ std::string model_help() {
 
 std::vector<SettingSpec> make_schema() {
   std::vector<SettingSpec> s;
-  s.push_back({"colorspace", "--colorspace", "NAME", "",
+  s.push_back({"colorspace", "--colorspace", "NAME", "colorspace",
                "Colour space of the input (--to-rgb: of the output): a name, alias or role of "
                "the OCIO config",
                kImage | kToRgb | kColor | kPlotColor | kIngest, true, false,
@@ -216,7 +216,7 @@ std::vector<SettingSpec> make_schema() {
                             : std::to_string(v.tile_width) + "x" + std::to_string(v.tile_height);
                },
                nullptr});
-  s.push_back({"preview_colorspace", "--preview-colorspace", "NAME", "",
+  s.push_back({"preview_colorspace", "--preview-colorspace", "NAME", "previewColorSpace",
                "Colour space of the spectral file's R, G, B previews (tagged in the file)",
                kImage | kIngest, true, false,
                [](Settings& v, std::string_view t) { v.preview_colorspace = std::string(t); },
@@ -266,6 +266,7 @@ std::vector<SettingSpec> make_schema() {
                  v.ingest.name_pattern = p;
                },
                [](const Settings& v) { return v.ingest.name_pattern; }, nullptr});
+  s.back().shapes_file = false;  // where the outputs go
   for (const auto& [key, flag, what] :
        {std::tuple{"data_names", "--data-names", "non-colour data, never spectralized"},
         std::tuple{"emission_names", "--emission-names", "lights (emission)"},
@@ -292,6 +293,7 @@ std::vector<SettingSpec> make_schema() {
                                                   : v.ingest.reflectance_names;
                  },
                  nullptr});
+    s.back().shapes_file = false;  // decisions, recorded by the mode they resolve to
   }
   s.push_back({"data", "--data", "ACTION", "",
                "Non-colour files (data colour spaces, data names): skip or copy them unchanged",
@@ -301,11 +303,13 @@ std::vector<SettingSpec> make_schema() {
                },
                [](const Settings& v) { return std::string(v.ingest.copy_data ? "copy" : "skip"); },
                nullptr});
+  s.back().shapes_file = false;  // what happens to data files, not to spectral ones
   s.push_back({"jobs", "--jobs", "N", "",
                "Files converted at once (0: one per core; each gets its share of --threads)",
                kIngest, false, false,
                [](Settings& v, std::string_view t) { v.ingest.jobs = whole(t, 0, 256); },
                [](const Settings& v) { return std::to_string(v.ingest.jobs); }, nullptr});
+  s.back().shapes_file = false;  // how the batch runs
   s.push_back({"method", "--method", "METHOD", "method",
                "table (exact interpolation of cached node spectra) or exact (every distinct "
                "colour solved directly; slow, for comparison)",
@@ -325,12 +329,14 @@ std::vector<SettingSpec> make_schema() {
                [](Settings& v, std::string_view t) { v.cache_dir = std::string(t); },
                [](const Settings& v) { return v.cache_dir; },
                [](const Settings& v) { return !v.cache_dir.empty(); }, "none"});
+  s.back().shapes_file = false;  // how the job runs (the spectra do not depend on it)
   s.push_back({"threads", "--threads", "N", "",
                "Cores to use: conversion and compression workers (0: all; 1: one core); the output "
                "does not depend on it",
                kFileCommands, true, false,
                [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
                [](const Settings& v) { return std::to_string(v.threads); }, nullptr});
+  s.back().shapes_file = false;  // how the job runs (the output does not depend on it)
   s.push_back({"config", "--config", "FILE", "",
                "OCIO config (default: $OCIO, else the config shipped with spectralize)",
                kAllCommands, true, false,
@@ -338,6 +344,8 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return v.config; },
                [](const Settings& v) { return !v.config.empty(); },
                "$OCIO, else the shipped config", "--colorconfig"});
+  // The config enters ingest's key by its content (ColourSpaces::content_identity).
+  s.back().shapes_file = false;
   return s;
 }
 
@@ -410,6 +418,14 @@ std::vector<std::pair<std::string, std::string>> describe_settings(const Setting
     if (!s.applies(command) || !s.matters(settings) || (spectral_only && !s.spectral)) continue;
     out.emplace_back(std::string(s.key), setting_value(s, settings));
   }
+  return out;
+}
+
+std::vector<std::pair<const SettingSpec*, std::string>> file_settings(const Settings& resolved) {
+  std::vector<std::pair<const SettingSpec*, std::string>> out;
+  for (const SettingSpec& s : settings_schema())
+    if (s.shapes_file && s.applies(kImage) && s.matters(resolved))
+      out.emplace_back(&s, setting_value(s, resolved));
   return out;
 }
 

@@ -36,8 +36,10 @@ class SpectralImageLayout {
 struct LayoutRequest {
   const OIIO::ImageSpec& input;  // windows and descriptive metadata to carry over
   bool alpha = false;            // the input has alpha
-  const Settings& settings;      // sample type, compression, tiling; the settings written
-  std::string input_colorspace;  // recorded as spectralize:colorspace
+  // Sample type, compression, tiling; the settings written, as resolved for the file (its
+  // colorspace and preview_colorspace are the spaces decided for it).
+  const Settings& settings;
+  std::string input_colorspace;
   std::string preview_colorspace;
   const ColourSpaces& spaces;                          // to tag the previews
   std::string date_time;                               // EXIF DateTime

@@ -138,7 +138,10 @@ std::string save_table_cache(const SpectralTable& table, const std::string& file
   const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
   put(&sum, 8);
   try {
-    AtomicOutput out(file, {});
+    // The cache folder is the user's; the file in it is named by spectralize, so a link there is
+    // not followed.
+    AtomicOutput out(file, WriteRules::named("a node cache file")
+                               .below(std::filesystem::path(file).parent_path().string()));
     out.write(bytes);
     out.commit();
   } catch (const Error& e) {

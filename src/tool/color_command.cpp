@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "io/json_text.h"
 #include "io/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -75,7 +76,8 @@ int run_color(const Options& opt) {
   // The destination is checked before any work (a file, or a stream such as /dev/stdout).
   std::unique_ptr<AtomicOutput> file;
   if (!opt.output.empty())
-    file = std::make_unique<AtomicOutput>(opt.output, std::vector<std::string>{}, true);
+    file =
+        std::make_unique<AtomicOutput>(opt.output, WriteRules::named("the output (-o)").streams());
 
   Spectralizer spectralizer(settings);
   std::vector<SpectrumResult> results;
@@ -89,7 +91,7 @@ int run_color(const Options& opt) {
     Json out = Json::array();
     for (std::size_t i = 0; i < results.size(); ++i)
       out.push_back(result_json(colours[i], to_xyz.source(), opt, spectralizer, results[i]));
-    text = (results.size() == 1 ? out[0] : out).dump(2) + "\n";
+    text = dump_json(results.size() == 1 ? out[0] : out, 2) + "\n";
   } else {
     text = "wavelength_nm";
     for (std::size_t c = 0; c < results.size(); ++c)

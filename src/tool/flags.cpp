@@ -23,7 +23,7 @@ ColourInputs colour_inputs(const Options& opt) {
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
   ColourSpaces spaces = load_config(opt);
-  ColourTransform to_xyz = flag_value("--colorspace", [&] {
+  ColourTransform to_xyz = usage_checked("--colorspace", [&] {
     const std::string space = opt.settings.colorspace.empty()
                                   ? default_colour_space(spaces, true).first
                                   : opt.settings.colorspace;
@@ -87,7 +87,13 @@ Rgb parse_rgb(const std::string& text) {
 
 ColourSpaces load_config(const Options& opt) {
   if (opt.settings.config.empty()) return ColourSpaces::load();
-  return flag_value("--config", [&] { return ColourSpaces::load(opt.settings.config); });
+  // A config that does not load is the job's failure (exit 1); a value that names no config
+  // file at all (ocio://...) is the command line's (exit 2).
+  try {
+    return usage_checked("--config", [&] { return ColourSpaces::load(opt.settings.config); });
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("--config: ") + e.what());
+  }
 }
 
 LogFn console_log(int verbosity) {

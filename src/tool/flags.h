@@ -13,16 +13,21 @@
 
 namespace spectralize::tool {
 
-/// Runs `fn`, turning the core's configuration errors into usage errors naming the flag; a
-/// ConfigError (the OCIO config's own fault) passes unchanged. Cost: that of fn.
+/// Runs `fn`, turning a mistake in a command-line value (an Error) into a UsageError (exit 2),
+/// prefixed "<flag>: " when a flag is given; a FileError (a file that cannot be read or written)
+/// and a ConfigError (the OCIO config's own fault, or a config that does not load) are job
+/// failures (exit 1) and pass unchanged. The one place that decides which errors are the
+/// command line's: main() maps UsageError to 2 and every other error to 1. Cost: that of fn.
 template <typename Fn>
-auto flag_value(const char* flag, Fn&& fn) {
+auto usage_checked(std::string_view flag, Fn&& fn) {
   try {
     return fn();
   } catch (const ConfigError&) {
-    throw;  // the config's fault, not the flag's
+    throw;
+  } catch (const FileError&) {
+    throw;
   } catch (const Error& e) {
-    throw UsageError{std::string(flag) + ": " + e.what()};
+    throw UsageError{flag.empty() ? std::string(e.what()) : std::string(flag) + ": " + e.what()};
   }
 }
 
@@ -53,8 +58,8 @@ ColourInputs colour_inputs(const Options& options);
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
                                   const Rgb& colour, int& status);
 
-/// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
-/// Cost: parsing the config, ~ms.
+/// The OCIO config of --config, else $OCIO or the shipped one; one that does not load is a
+/// ConfigError (exit 1). Cost: parsing the config, ~ms.
 ColourSpaces load_config(const Options& options);
 
 /// Warnings unless -q; stage details (levels 1 and 2) with -v. Cost: O(1).

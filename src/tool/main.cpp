@@ -290,11 +290,7 @@ void apply_flags(const Given& given, Options& opt) {
     if (!spec)
       throw UsageError{flag + " does not apply to " + command_name(opt.command) +
                        " (it applies to " + commands_list(flag_commands(flag)) + ")"};
-    try {
-      apply_setting(opt.settings, *spec, value, flag);
-    } catch (const Error& e) {
-      throw UsageError{e.what()};
-    }
+    usage_checked("", [&] { apply_setting(opt.settings, *spec, value, flag); });
   }
 }
 

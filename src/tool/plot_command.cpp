@@ -314,7 +314,8 @@ int run_plot_pixel(const Options& opt) {
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
   apply_scale(opt, plot);
   if (csv) {
-    AtomicOutput out(opt.output, std::span<const std::string>(&file, 1), /*allow_stream=*/true);
+    AtomicOutput out(opt.output, WriteRules::named("the plot (-o)").streams(),
+                     std::span<const std::string>(&file, 1));
     out.write(plot_csv(plot));
     out.commit();
     return kExitOk;

@@ -247,7 +247,6 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"--color 1,1,1 --filter 1.5", "--filter"},
         BadArgs{"--color 1,1,1 --filter x", "--filter"},
         BadArgs{"--color 1,1,1 --format xml", "--format: 'xml' (valid: csv, json)"},
-        BadArgs{"--color 1,1,1 --config /nonexistent/config.ocio", "/nonexistent/config.ocio"},
         BadArgs{"--color 1,1,1 --model wavy", "--model: unknown model 'wavy'"},
         BadArgs{"--color 1,1,1 --emission-basis D6x", "--emission-basis: unknown emission basis"},
         BadArgs{"--color 1,1,1 --bogus", "bogus"}, BadArgs{"", "nothing to do"}));
