@@ -122,9 +122,10 @@ class Sink {
   void with_system_reason(Fn&& fn) {
     try {
       fn();
-    } catch (const Error&) {
-      file_.check();
+    } catch (const FileError&) {
       throw;
+    } catch (const Error& e) {
+      file_.fail(e.what(), errno);
     }
   }
 
@@ -146,7 +147,16 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const OIIO::ImageSpec& spec = in.spec();
   const std::string& output = file.destination();
   const int nch = spec.nchannels, out_nch = ospec.nchannels;
-  Sink sink(format, ospec, file, threads);
+  // A writer that cannot even start (its header refused by a full disk) says why, too.
+  std::unique_ptr<Sink> made;
+  try {
+    made = std::make_unique<Sink>(format, ospec, file, threads);
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    file.fail(e.what(), errno);
+  }
+  Sink& sink = *made;
   const std::size_t width = static_cast<std::size_t>(spec.width);
   const std::size_t sample = sink.type().size();
   const int strip =

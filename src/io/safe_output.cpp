@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -291,9 +293,7 @@ std::string check_destination(const std::string& destination, const WriteRules& 
     if (!S_ISREG(st.st_mode)) return "";
     place = existing_place(st);
     std::lock_guard<std::mutex> lock(g_registry_mutex);
-    const std::string why = conflict_locked(destination, place, inputs);
-    place = {};
-    return why;
+    return conflict_locked(destination, place, inputs);
   }
   if (std::string why = link_on_the_way(destination, rules.own_below); !why.empty()) return why;
   struct stat st {};
@@ -375,14 +375,16 @@ std::string FilePlan::write(const std::string& path, const std::string& what,
   if (std::string why = check_destination(path, rules, {}, false, target, stream, place);
       !why.empty())
     return why;
-  if (stream) return "";
+  // A stream is written in place: never claimed, but never a planned file either (a shell's
+  // descriptor on an input).
+  if (stream && place == FilePlace{}) return "";
   const std::string where = quoted(path) + ": ";
   if (auto it = reads_.find(place); it != reads_.end())
     return where + "is a file this run reads (" + described(it->second.what, it->second.path) +
            "); refusing to overwrite it";
   if (auto it = writes_.find(place); it != writes_.end())
     return where + also_written(it->second.what, it->second.path, path);
-  writes_.emplace(place, Entry{path, what});
+  if (!stream) writes_.emplace(place, Entry{path, what});
   return "";
 }
 
@@ -586,6 +588,26 @@ OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
 
 void AtomicOutput::check() const {
   if (!error_.empty()) throw FileError(quote(destination_, 200) + ": write failed: " + error_);
+}
+
+void AtomicOutput::fail(const std::string& message, int err) const {
+  check();
+  // Written by name (not through the checked proxy): the system's reason when it can be told.
+  std::string reason;
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG || err == EIO || err == EROFS) {
+    reason = errno_text(err);
+  } else if (kind_ == Kind::file && fd_ >= 0) {
+    struct statvfs vs {};
+    struct stat st {};
+    struct rlimit limit {};
+    if (::fstatvfs(fd_, &vs) == 0 && (vs.f_bavail == 0 || vs.f_bfree == 0))
+      reason = errno_text(ENOSPC);
+    else if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+             ::fstat(fd_, &st) == 0 && static_cast<rlim_t>(st.st_size) >= limit.rlim_cur)
+      reason = errno_text(EFBIG);
+  }
+  if (!reason.empty()) throw FileError(message + " (" + reason + ")");
+  throw Error(message);
 }
 
 void AtomicOutput::commit() {

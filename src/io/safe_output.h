@@ -111,6 +111,10 @@ class AtomicOutput {
   OIIO::Filesystem::IOProxy* proxy();
   /// Throws FileError naming the destination if any write so far failed. Cost: O(1).
   void check() const;
+  /// After a writer failed with `message` (`err`: errno then): throws FileError with the
+  /// system's reason when one is known (a checked write it refused, a full file system, the
+  /// file-size limit), else Error(message). Cost: a statvfs.
+  [[noreturn]] void fail(const std::string& message, int err = 0) const;
 
   /// Makes the file durable and moves it into place: checks every write, that the file holds
   /// exactly the bytes written, flushes it to disk, renames it onto the destination. Throws
