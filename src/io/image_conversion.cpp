@@ -1,6 +1,7 @@
 #include "io/image_conversion.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "core/error.h"
 #include "io/colour_space.h"
@@ -27,8 +28,8 @@ struct ImageConversion::Parts {
 
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
-                                 const Settings& settings, const LogFn& log, TablePool* pool,
-                                 const HeaderAttributes& attributes)
+                                 const Settings& settings, const LogFn& log,
+                                 const ConversionContext& context)
     : parts_(std::make_unique<Parts>()) {
   if (settings.integer_bits != 0)
     throw Error("format uint" + std::to_string(settings.integer_bits) +
@@ -43,8 +44,14 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.width = spec.width;
   rep.height = spec.height;
   rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
-  const ColourSpaces spaces = ColourSpaces::load(settings.config);
-  const InputInterpretation in = interpret_input(input, spec, settings, spaces);
+  // The batch's config and decision where it has them: one parse per batch, and the file is
+  // converted exactly as it was decided (and keyed) by the caller.
+  std::optional<ColourSpaces> own_spaces;
+  if (!context.spaces) own_spaces = ColourSpaces::load(settings.config);
+  const ColourSpaces& spaces = context.spaces ? *context.spaces : *own_spaces;
+  const InputInterpretation in = context.interpretation
+                                     ? *context.interpretation
+                                     : interpret_input(input, spec, settings, spaces);
   for (const std::string& w : in.warnings) warn(w);
   rep.colorspace = in.colorspace;
   rep.colorspace_reason = in.colorspace_reason;
@@ -62,7 +69,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
              "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
 
   Parts& p = *parts_;
-  if (pool) {
+  if (TablePool* pool = context.pool) {
     TablePool::Entry& e = pool->get(s, log);
     p.spectralizer = e.spectralizer.get();
     p.table = e.table.get();
@@ -87,8 +94,8 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   std::map<std::string, std::string> recorded = {
       {"spectralize:colorspaceReason", in.colorspace_reason},
       {"spectralize:modeReason", in.mode_reason}};
-  if (attributes)
-    for (const auto& [name, value] : attributes(s)) recorded[name] = value;
+  if (context.attributes)
+    for (const auto& [name, value] : context.attributes(s)) recorded[name] = value;
   p.layout = spectral_exr_layout(
       {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, recorded});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{

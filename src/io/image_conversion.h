@@ -11,7 +11,9 @@
 #include <memory>
 #include <string>
 
+#include "io/colour_space.h"
 #include "io/image_report.h"
+#include "io/input_interpretation.h"
 #include "io/job_log.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
@@ -23,19 +25,25 @@ namespace spectralize {
 using HeaderAttributes =
     std::function<std::map<std::string, std::string>(const Settings& resolved)>;
 
+/// What a conversion may share with others (a batch's) instead of making its own.
+struct ConversionContext {
+  TablePool* pool = nullptr;                            // spectralizers, tables and the cache
+  const ColourSpaces* spaces = nullptr;                 // the config, parsed once
+  const InputInterpretation* interpretation = nullptr;  // the input, decided by the caller
+  HeaderAttributes attributes;  // more header attributes (they win over the conversion's)
+};
+
 class ImageConversion {
  public:
   /// Interprets an input of `spec` (channels, colour space, mode, each with its reason; file
   /// rules need `input`'s name), builds the spectralizer and table (loading the cache of
   /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
-  /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file.
-  /// `pool`: share the spectralizer and table of a batch (and its cache) instead of building
-  /// them; `attributes`: extra string attributes for the output's header (they win over the
-  /// conversion's own).
+  /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file,
+  /// plus parsing the config and deciding the input unless `context` gives them (an
+  /// interpretation given must be interpret_input's for this input and settings).
   ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                   const std::string& format_name, bool straight_alpha, const Settings& settings,
-                  const LogFn& log, TablePool* pool = nullptr,
-                  const HeaderAttributes& attributes = {});
+                  const LogFn& log, const ConversionContext& context = {});
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

@@ -266,16 +266,17 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   ImageReader reader(input, out_channels, /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
-  if (!options.pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
+  if (!options.shared.pool) limit_threads(settings.threads);  // a batch sets its threads once
   // The header keeps room for the warnings, which are known only at the end.
-  const HeaderAttributes attributes = [&](const Settings& resolved) {
+  ConversionContext context = options.shared;
+  context.attributes = [&](const Settings& resolved) {
     std::map<std::string, std::string> a;
-    if (options.attributes) a = options.attributes(resolved);
+    if (options.shared.attributes) a = options.shared.attributes(resolved);
     a[kWarningsAttribute] = warnings_value({}, kWarningsRoom);
     return a;
   };
   ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
-                             settings, log, options.pool, attributes);
+                             settings, log, context);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +

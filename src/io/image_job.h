@@ -20,8 +20,7 @@ namespace spectralize {
 
 /// What a caller may add to an image job.
 struct ImageJobOptions {
-  TablePool* pool = nullptr;    // share a batch's tables
-  HeaderAttributes attributes;  // more header attributes, from the settings as resolved
+  ConversionContext shared;  // a batch's tables, config and decision; more header attributes
   WriteRules output = WriteRules::named("the output");    // how `output` may be written
   std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
 };

@@ -38,6 +38,7 @@ using Json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 
 constexpr const char* kKeyAttribute = "spectralize:ingestKey";
+constexpr const char* kRequestKeyAttribute = "spectralize:ingestRequest";
 
 std::uint64_t fnv1a(std::string_view s) {
   std::uint64_t h = 1469598103934665603ull;
@@ -98,6 +99,28 @@ std::string ingest_key(const std::string& prefix, const Settings& resolved) {
   for (const auto& [spec, value] : file_settings(resolved))
     text.append("|").append(spec->key).append("=").append(value);
   return hex(fnv1a(text));
+}
+
+// A memo of the key: everything the decisions and the conversion are made from, as asked (the
+// input as spelt, every setting that is not how the batch runs), so that a rerun of the same
+// request finds an output up to date from its header alone. When it differs, the input is
+// decided again and the key of the settings as resolved says (docs/DESIGN.md §12).
+std::string request_key(const std::string& prefix, const IngestItem& item) {
+  std::string text = prefix + "|" + item.input;
+  for (const auto& [key, value] : describe_settings(item.settings, kIngest))
+    if (key != "threads" && key != "jobs" && key != "cache")
+      text.append("|").append(key).append("=").append(value);
+  return hex(fnv1a(text));
+}
+
+// The up-to-date record of an output, from what its header recorded.
+void recorded_decision(Json& r, std::map<std::string, std::string>& recorded) {
+  r["colorspace"] = recorded["spectralize:colorspace"];
+  r["colorspace_reason"] = recorded["spectralize:colorspaceReason"];
+  r["mode"] = recorded["spectralize:mode"];
+  r["mode_reason"] = recorded["spectralize:modeReason"];
+  const std::vector<std::string> warnings = recorded_warnings(recorded[kWarningsAttribute]);
+  if (!warnings.empty()) r["warnings"] = warnings;
 }
 
 // A byte-for-byte copy through an AtomicOutput, with the input's modification time (so a rerun
@@ -211,7 +234,9 @@ Json process(const IngestItem& item, Batch& batch) {
       put_path(r, "output", item.copy);
       if (!force && same_copy(item.copy, st)) return finish("up_to_date");
       copy_checked(item.input, item.copy, st,
-                   WriteRules::named("the copy of " + quoted_path(item.input)).below(dest));
+                   WriteRules::named("the copy of " + quoted_path(item.input))
+                       .below(dest)
+                       .folder_synced_by_caller());
       return finish("copied_data");
     };
     // By its name.
@@ -222,6 +247,17 @@ Json process(const IngestItem& item, Batch& batch) {
     const WordHit& colour = names_the_map(light, surface) ? light : surface;
     if (data_word && names_the_map(data_word, colour))
       return data("data name rule '" + data_word.word + "'");
+    // The same request as made the output: up to date from its header alone.
+    const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
+    const std::string asked = request_key(prefix, item);
+    std::map<std::string, std::string> recorded;
+    if (!force) {
+      recorded = exr_string_attributes(item.output);
+      if (!recorded[kKeyAttribute].empty() && recorded[kRequestKeyAttribute] == asked) {
+        recorded_decision(r, recorded);
+        return finish("up_to_date");
+      }
+    }
     // Mode by name rules, before the data type decides.
     std::string mode_reason;
     if (s.mode == ModeChoice::automatic && (light || surface)) {
@@ -238,27 +274,23 @@ Json process(const IngestItem& item, Batch& batch) {
     }
     if (batch.spaces.is_data(in.colorspace))
       return data("colour space '" + in.colorspace + "' is data (" + in.colorspace_reason + ")");
-    const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
     const std::string key = ingest_key(prefix, resolved_settings(s, in, batch.spaces));
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided and what its conversion warned about.
-    if (!force) {
-      auto recorded = exr_string_attributes(item.output);
-      if (recorded[kKeyAttribute] == key) {
-        r["colorspace"] = recorded["spectralize:colorspace"];
-        r["colorspace_reason"] = recorded["spectralize:colorspaceReason"];
-        r["mode"] = recorded["spectralize:mode"];
-        r["mode_reason"] = recorded["spectralize:modeReason"];
-        const std::vector<std::string> warnings = recorded_warnings(recorded[kWarningsAttribute]);
-        if (!warnings.empty()) r["warnings"] = warnings;
-        return finish("up_to_date");
-      }
+    if (!force && recorded[kKeyAttribute] == key) {
+      recorded_decision(r, recorded);
+      return finish("up_to_date");
     }
     ImageJobOptions options;
-    options.pool = &batch.pool;
-    options.output = WriteRules::named("the output of " + quoted_path(item.input)).below(dest);
-    options.attributes = [&](const Settings& resolved) {
+    options.shared.pool = &batch.pool;
+    options.shared.spaces = &batch.spaces;
+    options.shared.interpretation = &in;  // converted as decided (and keyed) here
+    options.output = WriteRules::named("the output of " + quoted_path(item.input))
+                         .below(dest)
+                         .folder_synced_by_caller();
+    options.shared.attributes = [&](const Settings& resolved) {
       std::map<std::string, std::string> a = {{kKeyAttribute, ingest_key(prefix, resolved)},
+                                              {kRequestKeyAttribute, asked},
                                               {"spectralize:source", item.input}};
       if (!mode_reason.empty()) a["spectralize:modeReason"] = mode_reason;
       return a;
@@ -338,6 +370,9 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   worker();
   for (auto& t : threads) t.join();
   for (const std::string& w : batch.pool.save()) log(0, w);
+  // The renames of the batch made durable, one sync per output folder, before the manifest
+  // says they happened.
+  for (const std::string& folder : batch.swept) sync_folder(folder);
 
   for (const LeftOut& l : plan.left_out) {
     ++sum.left_out;

@@ -3,8 +3,8 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/resource.h>
-#include <sys/statvfs.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <array>
@@ -441,7 +441,7 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     return n;
   }
   size_t pread(void* buf, size_t size, int64_t offset) override {
-    if (out_.kind_ == Kind::stream) return 0;
+    if (out_.kind_ == Kind::stream || !flush()) return 0;
     size_t got = 0;
     while (got < size) {
       const ssize_t n = ::pread(out_.fd_, static_cast<char*>(buf) + got, size - got,
@@ -457,13 +457,27 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     m_pos += static_cast<int64_t>(n);
     return n;
   }
+  // Writers write headers a field at a time (an EXR header of 90 channels is ~700 writes):
+  // contiguous writes are gathered up to kGather bytes, so each is not a system call. A failure
+  // shows when they go out (the next write, flush(), check(), commit()), as the system's reason.
   size_t pwrite(const void* buf, size_t size, int64_t offset) override {
-    int err = 0;
-    if (!write_all(out_.fd_, static_cast<const char*>(buf), size,
-                   out_.kind_ == Kind::stream ? -1 : offset, err)) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (out_.error_.empty()) out_.error_ = errno_text(err);
-      return 0;
+    const char* data = static_cast<const char*>(buf);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!out_.error_.empty()) return 0;
+    if (out_.kind_ == Kind::stream) {
+      if (!write_locked(data, size, -1)) return 0;
+    } else if (!pending_.empty() &&
+               offset == pending_at_ + static_cast<std::int64_t>(pending_.size()) &&
+               pending_.size() + size <= kGather) {
+      pending_.append(data, size);
+    } else {
+      if (!flush_locked()) return 0;
+      if (size >= kGather) {
+        if (!write_locked(data, size, offset)) return 0;
+      } else {
+        pending_at_ = offset;
+        pending_.assign(data, size);
+      }
     }
     std::int64_t end = offset + static_cast<std::int64_t>(size);
     std::int64_t seen = end_.load();
@@ -471,13 +485,35 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     }
     return size;
   }
+  /// Writes out what was gathered; false (the error kept) when the system refused it.
+  bool flush() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return flush_locked();
+  }
   size_t size() const override { return static_cast<size_t>(end_.load()); }
   std::int64_t end() const { return end_.load(); }
 
  private:
+  static constexpr std::size_t kGather = 256 * 1024;
+
+  bool flush_locked() {
+    if (pending_.empty()) return true;
+    const bool ok = write_locked(pending_.data(), pending_.size(), pending_at_);
+    pending_.clear();
+    return ok;
+  }
+  bool write_locked(const char* data, std::size_t size, std::int64_t offset) {
+    int err = 0;
+    if (write_all(out_.fd_, data, size, offset, err)) return true;
+    if (out_.error_.empty()) out_.error_ = errno_text(err);
+    return false;
+  }
+
   AtomicOutput& out_;
   std::atomic<std::int64_t> end_{0};
   std::mutex mutex_;
+  std::string pending_;  // gathered bytes, to be written at pending_at_
+  std::int64_t pending_at_ = 0;
 };
 
 AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rules,
@@ -512,6 +548,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rul
   if (std::string why = claim_place(destination, rules.what, place, true); !why.empty())
     throw FileError(why);
   what_ = rules.what;
+  sync_folder_ = !rules.folder_synced_later;
   const fs::path target(target_);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
@@ -569,6 +606,7 @@ void AtomicOutput::write(std::string_view bytes) {
 }
 
 void AtomicOutput::overwrite(std::uint64_t offset, std::string_view bytes) {
+  check();
   const std::string where = quote(destination_, 200) + ": ";
   const std::uint64_t end =
       std::max<std::uint64_t>(written_, proxy_ ? static_cast<std::uint64_t>(proxy_->end()) : 0);
@@ -587,6 +625,7 @@ OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
 }
 
 void AtomicOutput::check() const {
+  if (proxy_) proxy_->flush();
   if (!error_.empty()) throw FileError(quote(destination_, 200) + ": write failed: " + error_);
 }
 
@@ -637,10 +676,15 @@ void AtomicOutput::commit() {
   release_temporary(slot_);
   slot_ = -1;
   remember_written(existing_place(st), destination_, what_);
-  // Make the rename itself durable (best effort: some file systems refuse to sync a folder).
-  const fs::path dir =
-      fs::path(target_).has_parent_path() ? fs::path(target_).parent_path() : fs::path(".");
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  // Make the rename itself durable (best effort: some file systems refuse to sync a folder),
+  // unless the caller syncs the folder once for all its files (sync_folder_later).
+  if (!sync_folder_) return;
+  sync_folder(fs::path(target_).has_parent_path() ? fs::path(target_).parent_path().string()
+                                                  : std::string("."));
+}
+
+void sync_folder(const std::string& folder) {
+  const int dfd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {
     ::fsync(dfd);
     ::close(dfd);

@@ -49,6 +49,10 @@ struct WriteRules {
   // symbolic link may lie on the way from it to the file, nor at the file (links it did not
   // make). "" : the path is the user's own, and a link at it is written at its target.
   std::string own_below;
+  // The caller makes the renames durable with one sync_folder() per folder (a batch's many
+  // files) instead of a folder sync per file; the file itself is always synced before its
+  // rename, so it is complete or absent whenever the machine stops.
+  bool folder_synced_later = false;
 
   /// The rules of a file of this role. Cost: O(1).
   static WriteRules named(std::string what) {
@@ -64,6 +68,11 @@ struct WriteRules {
   /// The same, for a path the tool derived below `folder`. Cost: O(1).
   WriteRules& below(std::string folder) {
     own_below = std::move(folder);
+    return *this;
+  }
+  /// The same, the folder synced by the caller (sync_folder). Cost: O(1).
+  WriteRules& folder_synced_by_caller() {
+    folder_synced_later = true;
     return *this;
   }
 };
@@ -117,8 +126,9 @@ class AtomicOutput {
   [[noreturn]] void fail(const std::string& message, int err = 0) const;
 
   /// Makes the file durable and moves it into place: checks every write, that the file holds
-  /// exactly the bytes written, flushes it to disk, renames it onto the destination. Throws
-  /// FileError naming the destination (the temporary file is then removed). Cost: an fsync.
+  /// exactly the bytes written, flushes it to disk, renames it onto the destination and syncs
+  /// the folder (unless the rules leave that to the caller). Throws FileError naming the
+  /// destination (the temporary file is then removed). Cost: one or two fsyncs.
   void commit();
 
  private:
@@ -132,7 +142,12 @@ class AtomicOutput {
   std::unique_ptr<Proxy> proxy_;
   std::string error_;  // the first failed write, for check()
   std::string what_;   // its role (WriteRules::what)
+  bool sync_folder_ = true;
 };
+
+/// Makes the renames into `folder` durable (fsync of the folder; best effort: some file systems
+/// refuse). Cost: one fsync.
+void sync_folder(const std::string& folder);
 
 /// Shortens a user-supplied value for a message: at most `limit` characters, then "...".
 /// Cost: O(limit).

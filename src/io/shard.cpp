@@ -40,10 +40,10 @@ std::optional<ShardSpec> shard_of(std::string_view text, std::string_view sep, s
   }
   if (!index) {
     const bool digits = !i.empty() && i.find_first_not_of("0123456789") == std::string_view::npos;
-    why = quote(i, 40) + (digits && i[0] != '0' ? " is more than the most shards, " +
-                                                      std::to_string(kMaxShards)
-                                                : std::string(" is not a whole number (digits "
-                                                              "only, without leading zeros)"));
+    why = quote(i, 40) + (digits && i[0] != '0'
+                              ? " is more than the most shards, " + std::to_string(kMaxShards)
+                              : std::string(" is not a whole number (digits "
+                                            "only, without leading zeros)"));
     return std::nullopt;
   }
   if (*index >= *count) {

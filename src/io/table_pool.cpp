@@ -9,6 +9,15 @@ namespace fs = std::filesystem;
 namespace spectralize {
 
 TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
+  // The table's layout follows from the same settings: they find the entry again without
+  // building a spectralizer.
+  const std::string seen = table_cache_key(s, "") + "; method " +
+                           (s.method == SpectralTable::Method::exact ? "exact" : "table") +
+                           "; cache " + s.cache_dir;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = seen_.find(seen); it != seen_.end()) return *it->second;
+  }
   // The key names everything the node spectra depend on (and the method: exact tables differ).
   auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
   auto table = std::make_unique<SpectralTable>(*spectralizer, s.method);
@@ -16,7 +25,10 @@ TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
                           (s.method == SpectralTable::Method::exact ? "; exact" : "");
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = entries_.find(key);
-  if (it != entries_.end()) return *it->second;
+  if (it != entries_.end()) {
+    seen_[seen] = it->second.get();
+    return *it->second;
+  }
   auto entry = std::make_unique<Entry>();
   entry->key = key;
   entry->spectralizer = std::move(spectralizer);
@@ -39,6 +51,7 @@ TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
   }
   Entry& ref = *entry;
   entries_[key] = std::move(entry);
+  seen_[seen] = &ref;
   return ref;
 }
 
