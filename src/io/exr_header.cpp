@@ -15,9 +15,11 @@ namespace {
 enum class Parse { complete, incomplete, malformed };
 
 // Parses "magic version (name\0 type\0 size value)* \0" from the first `got` bytes of `b`.
-Parse parse_header(
-    const std::vector<char>& b, std::size_t got, std::map<std::string, std::string>& out,
-    std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents = nullptr) {
+// Also records where each attribute's value lies (`extents`) and the double-typed ones.
+Parse parse_header(const std::vector<char>& b, std::size_t got,
+                   std::map<std::string, std::string>& out,
+                   std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
+                   std::map<std::string, double>* doubles) {
   const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
   if (got < 8) return Parse::incomplete;
   if (std::memcmp(b.data(), magic, 4) != 0) return Parse::malformed;
@@ -42,10 +44,13 @@ Parse parse_header(
     std::memcpy(&size, b.data() + at, 4);  // little-endian, as OpenEXR stores it
     at += 4;
     if (size > got - at) return Parse::incomplete;
-    if (type == "string") {
-      out[name] = std::string(b.data() + at, size);
-      if (extents) (*extents)[name] = {at, size};
+    if (type == "string") out[name] = std::string(b.data() + at, size);
+    if (type == "double" && size == 8 && doubles) {
+      double v;
+      std::memcpy(&v, b.data() + at, 8);  // little-endian, as OpenEXR stores it
+      (*doubles)[name] = v;
     }
+    if (extents) (*extents)[name] = {at, size};
     at += size;
   }
   return Parse::incomplete;
@@ -57,7 +62,8 @@ namespace {
 
 // Reads the header of `path` (64 KB, more only if it goes on, up to 1 MB) and parses it.
 bool read_header(const std::string& path, std::map<std::string, std::string>& out,
-                 std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents) {
+                 std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
+                 std::map<std::string, double>* doubles = nullptr) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return false;
   std::vector<char> b;
@@ -72,7 +78,8 @@ bool read_header(const std::string& path, std::map<std::string, std::string>& ou
     }
     out.clear();
     if (extents) extents->clear();
-    const Parse p = parse_header(b, got, out, extents);
+    if (doubles) doubles->clear();
+    const Parse p = parse_header(b, got, out, extents, doubles);
     complete = p == Parse::complete;
     if (complete || p == Parse::malformed || got < size) break;  // done, garbage, or cut short
   }
@@ -80,6 +87,7 @@ bool read_header(const std::string& path, std::map<std::string, std::string>& ou
   if (!complete) {
     out.clear();
     if (extents) extents->clear();
+    if (doubles) doubles->clear();
   }
   return complete;
 }
@@ -92,14 +100,18 @@ std::map<std::string, std::string> exr_string_attributes(const std::string& path
   return out;
 }
 
-std::optional<std::pair<std::uint64_t, std::uint64_t>> exr_string_attribute_extent(
-    const std::string& path, const std::string& name) {
+ExrHeaderValues exr_header_values(const std::string& path) {
+  ExrHeaderValues v;
+  read_header(path, v.strings, nullptr, &v.doubles);
+  return v;
+}
+
+std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> exr_attribute_extents(
+    const std::string& path) {
   std::map<std::string, std::string> values;
   std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> extents;
-  if (!read_header(path, values, &extents)) return std::nullopt;
-  auto it = extents.find(name);
-  if (it == extents.end()) return std::nullopt;
-  return it->second;
+  read_header(path, values, &extents);
+  return extents;
 }
 
 }  // namespace spectralize

@@ -5,7 +5,6 @@
 
 #include <cstdint>
 #include <map>
-#include <optional>
 #include <string>
 #include <utility>
 
@@ -16,10 +15,16 @@ namespace spectralize {
 /// Cost: one open and read of the header, ~10-50 us.
 std::map<std::string, std::string> exr_string_attributes(const std::string& path);
 
-/// Where the value of the string attribute `name` lies in the OpenEXR file at `path`: (byte
-/// offset, size), or nullopt when the header is unreadable or has no such attribute. Cost: as
-/// exr_string_attributes.
-std::optional<std::pair<std::uint64_t, std::uint64_t>> exr_string_attribute_extent(
-    const std::string& path, const std::string& name);
+/// The string and double attributes of the header, as exr_string_attributes reads them.
+struct ExrHeaderValues {
+  std::map<std::string, std::string> strings;
+  std::map<std::string, double> doubles;
+};
+ExrHeaderValues exr_header_values(const std::string& path);
+
+/// Where the value of each attribute (any type) lies in the OpenEXR file at `path`: name ->
+/// (byte offset, size); empty when the header is unreadable. Cost: as exr_string_attributes.
+std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> exr_attribute_extents(
+    const std::string& path);
 
 }  // namespace spectralize

@@ -1,11 +1,13 @@
 #include "io/image_conversion.h"
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
+#include "io/json_text.h"
 #include "io/output_metadata.h"
 #include "io/spectral_converter.h"
 #include "io/spectral_image_layout.h"
@@ -94,10 +96,18 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   std::map<std::string, std::string> recorded = {
       {"spectralize:colorspaceReason", in.colorspace_reason},
       {"spectralize:modeReason", in.mode_reason}};
+  std::vector<std::pair<std::string, double>> numbers;
+  if (context.record_in_header) {
+    nlohmann::ordered_json known = nlohmann::ordered_json::array();
+    for (const std::string& w : rep.warnings) known.push_back(utf8_escaped(w));
+    recorded[kWarningsAttribute] = dump_json(known);
+    for (const auto& [name, value] : count_attributes(PixelCounts{}))
+      numbers.emplace_back("spectralize:" + name, value);
+  }
   if (context.attributes)
     for (const auto& [name, value] : context.attributes(s)) recorded[name] = value;
-  p.layout = spectral_exr_layout(
-      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, recorded});
+  p.layout = spectral_exr_layout({spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces,
+                                  date_time, recorded, numbers});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
@@ -133,6 +143,22 @@ void ImageConversion::load_cache(const LogFn& log,
 }
 
 ImageConversion::~ImageConversion() = default;
+
+std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
+                                           const std::map<std::string, double>& doubles,
+                                           const std::string& input) {
+  std::vector<std::string> out;
+  if (auto it = strings.find(kWarningsAttribute); it != strings.end()) {
+    const auto j = nlohmann::ordered_json::parse(it->second, nullptr, false);
+    if (j.is_array())
+      for (const auto& w : j)
+        if (w.is_string()) out.push_back(w.get<std::string>());
+  }
+  for (const std::string& w : count_warnings(counts_from_attributes(doubles), "'" + input + "'",
+                                             "pixels", OptionNames{"--", "-o"}))
+    out.push_back(w);
+  return out;
+}
 
 const OIIO::ImageSpec& ImageConversion::output_spec() const {
   return parts_->layout->spec();

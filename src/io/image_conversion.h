@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "io/colour_space.h"
 #include "io/image_report.h"
@@ -31,7 +32,23 @@ struct ConversionContext {
   const ColourSpaces* spaces = nullptr;                 // the config, parsed once
   const InputInterpretation* interpretation = nullptr;  // the input, decided by the caller
   HeaderAttributes attributes;  // more header attributes (they win over the conversion's)
+  // A file job's: the header records the warnings known before the pixels
+  // (kWarningsAttribute) and room for the counts (count_attributes, zero until the job fills
+  // them in at the end: fixed-size doubles, so nothing moves).
+  bool record_in_header = false;
 };
+
+/// The header attribute that holds the warnings the conversion knew before its pixels (the
+/// input's interpretation), as a JSON array of strings; with the recorded counts
+/// (count_attributes) they give the conversion's warnings (recorded_warnings). Cost: O(1).
+inline constexpr const char* kWarningsAttribute = "spectralize:warnings";
+
+/// The warnings of the conversion that made a file, from its header's string and double
+/// attributes: those recorded before its pixels, then count_warnings of its recorded counts
+/// (about `input`, as the conversion words them). Cost: O(attributes).
+std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
+                                           const std::map<std::string, double>& doubles,
+                                           const std::string& input);
 
 class ImageConversion {
  public:

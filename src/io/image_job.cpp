@@ -8,7 +8,6 @@
 #include <functional>
 #include <future>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <numeric>
 #include <thread>
 #include <vector>
@@ -21,7 +20,6 @@
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
 #include "io/image_input.h"
-#include "io/json_text.h"
 #include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
 #include "io/safe_output.h"
@@ -223,39 +221,6 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 
 }  // namespace
 
-namespace {
-
-// The reserved size of the warnings attribute: room for a dozen warnings naming long paths.
-constexpr std::size_t kWarningsRoom = 4096;
-
-// The warnings as a JSON array of at most `room` bytes (as many whole warnings as fit, then a
-// count of the rest), padded with spaces to exactly `room`.
-std::string warnings_value(const std::vector<std::string>& warnings, std::size_t room) {
-  std::string text = "[]";
-  for (std::size_t kept = warnings.size() + 1; kept-- > 0;) {
-    nlohmann::ordered_json list = nlohmann::ordered_json::array();
-    for (std::size_t i = 0; i < kept; ++i) list.push_back(utf8_escaped(warnings[i]));
-    if (kept < warnings.size())
-      list.push_back("... and " + std::to_string(warnings.size() - kept) +
-                     " more warnings (in the manifest or report of the run that made the file)");
-    text = dump_json(list);
-    if (text.size() <= room) break;
-  }
-  if (text.size() > room) text = "[]";
-  return text + std::string(room - text.size(), ' ');
-}
-
-}  // namespace
-
-std::vector<std::string> recorded_warnings(const std::string& value) {
-  std::vector<std::string> out;
-  const auto j = nlohmann::ordered_json::parse(value, nullptr, false);
-  if (!j.is_array()) return out;
-  for (const auto& w : j)
-    if (w.is_string()) out.push_back(w.get<std::string>());
-  return out;
-}
-
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
                           const ImageJobOptions& options) {
@@ -267,14 +232,9 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
   if (!options.shared.pool) limit_threads(settings.threads);  // a batch sets its threads once
-  // The header keeps room for the warnings, which are known only at the end.
+  // The header records the warnings and, filled in at the end, the counts.
   ConversionContext context = options.shared;
-  context.attributes = [&](const Settings& resolved) {
-    std::map<std::string, std::string> a;
-    if (options.shared.attributes) a = options.shared.attributes(resolved);
-    a[kWarningsAttribute] = warnings_value({}, kWarningsRoom);
-    return a;
-  };
+  context.record_in_header = true;
   ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
                              settings, log, context);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
@@ -295,11 +255,15 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   rep.seconds_convert = t_convert;
   rep.seconds_write = t_write;
   rep.seconds_total = seconds_since(t_start);
-  // The warnings into the room the header kept for them (same size: nothing moves).
-  const auto extent = exr_string_attribute_extent(file.path(), kWarningsAttribute);
-  if (!extent || extent->second != kWarningsRoom)
-    throw FileError(quote(output, 200) + ": the written header lost its warnings record");
-  file.overwrite(extent->first, warnings_value(rep.warnings, kWarningsRoom));
+  // The counts into the doubles the header holds for them (same size: nothing moves).
+  const auto extents = exr_attribute_extents(file.path());
+  for (const auto& [name, value] : count_attributes(rep.counts)) {
+    auto it = extents.find("spectralize:" + name);
+    if (it == extents.end() || it->second.second != sizeof value)
+      throw FileError(quote(output, 200) + ": the written header lost its " + name + " record");
+    file.overwrite(it->second.first,
+                   std::string_view(reinterpret_cast<const char*>(&value), sizeof value));
+  }
   // What must succeed with the image (its report) is written first: a failure there leaves
   // nothing at the destination either.
   if (options.before_commit) options.before_commit(rep);

@@ -25,18 +25,9 @@ struct ImageJobOptions {
   std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
 };
 
-/// The header attribute that holds the warnings of the conversion that made the file, as a
-/// JSON array of strings (padded with spaces to a fixed size: written when they are known, at
-/// the end). Cost: O(1).
-inline constexpr const char* kWarningsAttribute = "spectralize:warnings";
-
-/// The warnings recorded in a file's kWarningsAttribute value ("" or malformed: none).
-/// Cost: O(value).
-std::vector<std::string> recorded_warnings(const std::string& value);
-
 /// Converts `input` to the spectral OpenEXR `output`. Never overwrites the input (under any
 /// alias) nor another output of the run; nothing is left at `output` unless it completed. The
-/// header records the settings as resolved for the file and the conversion's warnings;
+/// header records the settings as resolved for the file, the conversion's warnings and counts;
 /// `before_commit` runs with the finished report before the file is moved into place. Throws
 /// Error naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
 ImageReport run_image_job(const std::string& input, const std::string& output,

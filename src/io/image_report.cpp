@@ -50,6 +50,33 @@ std::vector<std::string> count_warnings(const PixelCounts& c, const std::string&
   return w;
 }
 
+std::vector<std::pair<std::string, double>> count_attributes(const PixelCounts& c) {
+  auto d = [](std::uint64_t v) { return static_cast<double>(v); };
+  return {{"invalidPixels", d(c.invalid)},
+          {"invalidAlphaPixels", d(c.alpha_invalid)},
+          {"negativeLuminancePixels", d(c.negative)},
+          {"outsideLocusPixels", d(c.outside_locus)},
+          {"outsideSolidPixels", d(c.outside_solid)},
+          {"brighterThanWhitePixels", d(c.brighter_than_white)},
+          {"halfOverflowPixels", d(c.half_overflow)}};
+}
+
+PixelCounts counts_from_attributes(const std::map<std::string, double>& a) {
+  auto get = [&](const char* name) -> std::uint64_t {
+    auto it = a.find(std::string("spectralize:") + name);
+    return it == a.end() || !(it->second >= 0) ? 0 : static_cast<std::uint64_t>(it->second);
+  };
+  PixelCounts c;
+  c.invalid = get("invalidPixels");
+  c.alpha_invalid = get("invalidAlphaPixels");
+  c.negative = get("negativeLuminancePixels");
+  c.outside_locus = get("outsideLocusPixels");
+  c.outside_solid = get("outsideSolidPixels");
+  c.brighter_than_white = get("brighterThanWhitePixels");
+  c.half_overflow = get("halfOverflowPixels");
+  return c;
+}
+
 std::string report_json(const ImageReport& r, int indent) {
   Json j;
   put_path(j, "input", r.input);

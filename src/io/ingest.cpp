@@ -20,6 +20,7 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/exr_header.h"
+#include "io/image_conversion.h"
 #include "io/image_input.h"
 #include "io/image_job.h"
 #include "io/ingest_manifest.h"
@@ -107,19 +108,23 @@ std::string ingest_key(const std::string& prefix, const Settings& resolved) {
 // decided again and the key of the settings as resolved says (docs/DESIGN.md §12).
 std::string request_key(const std::string& prefix, const IngestItem& item) {
   std::string text = prefix + "|" + item.input;
-  for (const auto& [key, value] : describe_settings(item.settings, kIngest))
-    if (key != "threads" && key != "jobs" && key != "cache")
-      text.append("|").append(key).append("=").append(value);
+  // Every value as given (format(), not setting_value()): the mode asked, not resolved, and
+  // settings whose relevance only the resolution decides (the illuminant of a reflectance).
+  for (const SettingSpec& spec : settings_schema())
+    if (spec.applies(kIngest) && spec.key != "threads" && spec.key != "jobs" && spec.key != "cache")
+      text.append("|").append(spec.key).append("=").append(spec.format(item.settings));
   return hex(fnv1a(text));
 }
 
-// The up-to-date record of an output, from what its header recorded.
-void recorded_decision(Json& r, std::map<std::string, std::string>& recorded) {
-  r["colorspace"] = recorded["spectralize:colorspace"];
-  r["colorspace_reason"] = recorded["spectralize:colorspaceReason"];
-  r["mode"] = recorded["spectralize:mode"];
-  r["mode_reason"] = recorded["spectralize:modeReason"];
-  const std::vector<std::string> warnings = recorded_warnings(recorded[kWarningsAttribute]);
+// The up-to-date record of an output, from what its header recorded: how it was decided and
+// what its conversion warned about.
+void recorded_decision(Json& r, ExrHeaderValues& recorded, const std::string& input) {
+  r["colorspace"] = recorded.strings["spectralize:colorspace"];
+  r["colorspace_reason"] = recorded.strings["spectralize:colorspaceReason"];
+  r["mode"] = recorded.strings["spectralize:mode"];
+  r["mode_reason"] = recorded.strings["spectralize:modeReason"];
+  const std::vector<std::string> warnings =
+      recorded_warnings(recorded.strings, recorded.doubles, input);
   if (!warnings.empty()) r["warnings"] = warnings;
 }
 
@@ -250,11 +255,12 @@ Json process(const IngestItem& item, Batch& batch) {
     // The same request as made the output: up to date from its header alone.
     const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
     const std::string asked = request_key(prefix, item);
-    std::map<std::string, std::string> recorded;
+    ExrHeaderValues recorded;
     if (!force) {
-      recorded = exr_string_attributes(item.output);
-      if (!recorded[kKeyAttribute].empty() && recorded[kRequestKeyAttribute] == asked) {
-        recorded_decision(r, recorded);
+      recorded = exr_header_values(item.output);
+      if (!recorded.strings[kKeyAttribute].empty() &&
+          recorded.strings[kRequestKeyAttribute] == asked) {
+        recorded_decision(r, recorded, item.input);
         return finish("up_to_date");
       }
     }
@@ -277,8 +283,8 @@ Json process(const IngestItem& item, Batch& batch) {
     const std::string key = ingest_key(prefix, resolved_settings(s, in, batch.spaces));
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided and what its conversion warned about.
-    if (!force && recorded[kKeyAttribute] == key) {
-      recorded_decision(r, recorded);
+    if (!force && recorded.strings[kKeyAttribute] == key) {
+      recorded_decision(r, recorded, item.input);
       return finish("up_to_date");
     }
     ImageJobOptions options;

@@ -275,7 +275,8 @@ std::string conflict_locked(const std::string& destination, const FilePlace& pla
   return "";
 }
 
-// The checks of why_not_writable; `folder_must_exist` for a file about to be created (a plan's
+// Why `destination` cannot be written by this run, or "" (AtomicOutput's and FilePlan's
+// checks); `folder_must_exist` for a file about to be created (a plan's
 // folders are made later). Sets `target` (where the data go) and `stream`.
 std::string check_destination(const std::string& destination, const WriteRules& rules,
                               std::span<const std::string> inputs, bool folder_must_exist,
@@ -352,14 +353,6 @@ void remember_written(const FilePlace& place, const std::string& destination,
 }
 
 }  // namespace
-
-std::string why_not_writable(const std::string& destination, const WriteRules& rules,
-                             std::span<const std::string> inputs) {
-  std::string target;
-  bool stream = false;
-  FilePlace place;
-  return check_destination(destination, rules, inputs, true, target, stream, place);
-}
 
 bool FilePlan::read(const std::string& path, const std::string& what) {
   struct stat st {};

@@ -1,6 +1,8 @@
 #pragma once
 // Every file spectralize writes goes through AtomicOutput (docs/DESIGN.md §9): the destination
-// is checked before any work (never an input under any alias, never a directory, device or
+// is checked before any work against the run's one registry of what it reads and writes (never
+// an input, the config or another output of the run, under any alias; never through a link
+// spectralize did not make below a folder it derives paths in; never a directory, device or
 // other non-regular file), the data go to a temporary file created exclusively beside it (never
 // following a planted link), every write is checked to the last byte, and the temporary file is
 // renamed onto the destination only when complete. On SIGINT, SIGTERM or SIGHUP the temporary
@@ -77,14 +79,6 @@ struct WriteRules {
   }
 };
 
-/// Why `destination` cannot be written by this run, or "": not a file the run reads, nor
-/// another of its outputs, under any alias; not a directory or other non-regular file (streams
-/// where allowed); no link the tool did not make on the way (rules.own_below). Consults the
-/// process's registry (protect_input, the outputs claimed while a ReadFileScope lives) and
-/// `inputs`. Cost: a few system calls.
-std::string why_not_writable(const std::string& destination, const WriteRules& rules = {},
-                             std::span<const std::string> inputs = {});
-
 class AtomicOutput {
  public:
   enum class Kind {
@@ -92,7 +86,10 @@ class AtomicOutput {
     stream,  // an existing character device or pipe (/dev/stdout, /dev/null): written in place
   };
 
-  /// Checks `destination` (why_not_writable), claims it for the run (no other output of the
+  /// Checks `destination` — not a file the run reads, nor another of its outputs, under any
+  /// alias (the process's registry and `inputs`); not a directory or other non-regular file
+  /// (streams where allowed); no link the tool did not make on the way (rules.own_below) —,
+  /// claims it for the run (no other output of the
   /// run may then be written there, under any alias) and creates its temporary file. A
   /// destination that is a symbolic link the user named is written at the link's target (the
   /// link stays). Throws FileError "'<destination>': <why>". Cost: a few system calls.
@@ -178,7 +175,7 @@ class FilePlan {
   /// false when the same file (any alias) is already registered. Cost: one stat.
   bool read(const std::string& path, const std::string& what);
   /// Registers a file the run will write and returns "", or returns why it cannot be written:
-  /// a file the run reads, another planned output (any alias), or why_not_writable's reasons.
+  /// a file the run reads, another planned output (any alias), or AtomicOutput's reasons.
   /// `what` names it in messages ("the output of 'lib/a.png'"). Cost: a few system calls.
   std::string write(const std::string& path, const std::string& what, const WriteRules& rules = {});
   /// Protects the reads and claims the writes in the process's registry for the current

@@ -63,6 +63,7 @@ SpectralExrLayout::SpectralExrLayout(const LayoutRequest& r) : preview_(r.previe
     if (!setting->attribute.empty())
       spec_.attribute("spectralize:" + std::string(setting->attribute), value);
   for (const auto& [name, value] : r.attributes) spec_.attribute(name, value);
+  for (const auto& [name, value] : r.numbers) spec_.attribute(name, OIIO::TypeDesc::DOUBLE, &value);
   tag_colour_space(spec_, r.spaces, preview_);
 }
 

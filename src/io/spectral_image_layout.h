@@ -9,6 +9,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
@@ -41,9 +43,10 @@ struct LayoutRequest {
   const Settings& settings;
   std::string input_colorspace;
   std::string preview_colorspace;
-  const ColourSpaces& spaces;                          // to tag the previews
-  std::string date_time;                               // EXIF DateTime
-  std::map<std::string, std::string> attributes = {};  // more string attributes to record
+  const ColourSpaces& spaces;                                // to tag the previews
+  std::string date_time;                                     // EXIF DateTime
+  std::map<std::string, std::string> attributes = {};        // more string attributes to record
+  std::vector<std::pair<std::string, double>> numbers = {};  // and double ones
 };
 
 /// The spectral OpenEXR layout: R, G, B previews (tagged with their colour space), A when the
