@@ -219,7 +219,7 @@ TEST(Guarantees, UpToDateMeansTheSameFileWouldBeWritten) {
       {"observer", "--observer cie1964", all},
       {"illuminant", "--illuminant A", {"surface.png"}},
       {"model", "--model smooth", all},
-      {"filter", "--filter 0.5", none},      // the natural model has no edge filter
+      {"filter", "--filter 0.5", none},      // the default (exemplar) model has no edge filter
       {"curvature", "--curvature 5", none},  // only the smooth model's
       {"emission_basis", "--emission-basis D65", {"light.exr"}},
       {"format", "--format float", all},
