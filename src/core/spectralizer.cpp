@@ -56,14 +56,10 @@ double chromaticity_distance(const Xyz& a, const Xyz& b) {
   return std::hypot(a.X / sa - b.X / sb, a.Y / sa - b.Y / sb);
 }
 
-// Fraction of the way back from the boundary: keeps mapped targets strictly inside, where the
-// fan of admissible triangles (locus) and the bounded projection (solid; its solutions near
-// the boundary converge slowly, found by fuzzing) are well conditioned.
-constexpr double kLocusMargin = 1e-6;
-constexpr double kSolidMargin = 1e-4;
-
-// Relative XYZ change up to which a gamut mapping counts as snapping (float input precision).
-constexpr double kSnapTolerance = 1e-6;
+// kLocusMargin, kSolidMargin (spectralizer.h): the fraction of the way back from the
+// boundary keeps mapped targets strictly inside, where the fan of admissible triangles (locus)
+// and the bounded projection (solid; its solutions near the boundary converge slowly, found by
+// fuzzing) are well conditioned. kSnapTolerance: float input precision.
 
 }  // namespace
 
@@ -157,8 +153,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   //    the colour of the flat spectrum, which every grid can.
   if (!locus_.contains(t)) {
     r.outside_locus = true;
-    Xyz white = reflectance ? weights_.unit_white() : kWhiteD65;
-    if (!locus_.contains(white)) white = basis_white_;
+    const Xyz white = mapping_white();
     move_toward(locus_, (t.Y / white.Y) * white);
     what = "outside the spectral locus: desaturated toward white at constant luminance";
   }
@@ -188,6 +183,18 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
     r.status = Status::ok;
     r.message.clear();
   }
+  return t;
+}
+
+Xyz Spectralizer::mapping_white() const {
+  const Xyz white = settings_.mode == Mode::reflectance ? weights_.unit_white() : kWhiteD65;
+  return locus_.contains(white) ? white : basis_white_;
+}
+
+Xyz Spectralizer::mapped_target(const Xyz& target, bool& moved) const {
+  SpectrumResult r;
+  const Xyz t = map_into_gamut(target, r);
+  moved = r.status == Status::out_of_gamut;
   return t;
 }
 
