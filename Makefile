@@ -44,12 +44,13 @@ test-tsan: deps
 	@cmake --build build-tsan -j $(JOBS)
 	@cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/tests/tsan.supp" ctest --output-on-failure -j $(JOBS) -R "Thread|Cache|CliImage"
 
-# libFuzzer (clang) on the recipe, channel-name, --color and --wavelengths parsers, each for
-# FUZZ_SECONDS, from the seed corpus in tests/fuzz/corpus/ (new inputs go to build-fuzz/corpus/).
+# libFuzzer (clang) on the recipe, channel-name, --color and --wavelengths parsers and the
+# .spztab table loader, each for FUZZ_SECONDS, from the seed corpus in tests/fuzz/corpus/ (new
+# inputs go to build-fuzz/corpus/; the table fuzzer writes its seed tables there).
 fuzz: deps
 	@CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECTRALIZE_FUZZ=ON >/dev/null
 	@cmake --build build-fuzz -j $(JOBS)
-	@for t in recipe channel_name color wavelengths; do \
+	@for t in recipe channel_name color wavelengths table; do \
 	  mkdir -p build-fuzz/corpus/$$t; \
 	  echo "== fuzz_$$t ($(FUZZ_SECONDS) s)"; \
 	  build-fuzz/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \

@@ -55,11 +55,15 @@ std::vector<double> reflectance_axis(double lo, double hi, int steps, int coarse
   return axis;
 }
 
-std::vector<double> chroma_axis(double lo, double hi, int steps) {
+// Chromaticity nodes every 1 / steps through `origin` (the white of the emission basis: white
+// light is a node, its spectrum the basis itself), covering [lo, hi]. In double, so that white
+// is the node exactly (a float evaluator's nodes are within 3e-8 of these: a blend with its
+// float weights is exact to ~1e-7).
+std::vector<double> chroma_axis(double lo, double hi, int steps, double origin) {
   std::vector<double> axis;
-  const int a = static_cast<int>(std::floor((lo - 1e-9) * steps));
-  const int b = static_cast<int>(std::ceil((hi + 1e-9) * steps));
-  for (int k = a; k <= b; ++k) axis.push_back(static_cast<double>(k) / steps);
+  const int a = static_cast<int>(std::floor((lo - 1e-9 - origin) * steps));
+  const int b = static_cast<int>(std::ceil((hi + 1e-9 - origin) * steps));
+  for (int k = a; k <= b; ++k) axis.push_back(origin + static_cast<double>(k) / steps);
   return axis;
 }
 
@@ -100,8 +104,11 @@ ExactTable::ExactTable(const Spectralizer& sp, const Mat3& frame, TableResolutio
     eps_ = 1e-12;  // relative to the coordinates (see compute_node)
   } else {
     locus_ = std::make_unique<LocusBoundary>(sp.weights().columns(), sp.basis());
-    axes_[0] = chroma_axis(locus_->lower().X, locus_->upper().X, res.chroma_steps);
-    axes_[1] = chroma_axis(locus_->lower().Y, locus_->upper().Y, res.chroma_steps);
+    const Xyz white = sp.weights().integrate(sp.basis());
+    axes_[0] =
+        chroma_axis(locus_->lower().X, locus_->upper().X, res.chroma_steps, white.X / white.sum());
+    axes_[1] =
+        chroma_axis(locus_->lower().Y, locus_->upper().Y, res.chroma_steps, white.Y / white.sum());
     axes_[2] = {0.0};
     eps_ = 1e-12;
   }
@@ -122,7 +129,9 @@ ExactTable::~ExactTable() = default;
 std::string ExactTable::layout() const {
   std::string s = "exact table 1; ";
   if (!reflectance_)
-    return s.append("emission chroma 1/").append(std::to_string(res_.chroma_steps));
+    return s.append("emission chroma 1/")
+        .append(std::to_string(res_.chroma_steps))
+        .append(" through the basis white");
   s.append("reflectance frame");
   for (double v : frame_) s.append(" ").append(number(v));
   s.append("; steps ").append(std::to_string(res_.steps)).append("/");

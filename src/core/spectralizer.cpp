@@ -191,10 +191,11 @@ Xyz Spectralizer::mapping_white() const {
   return locus_.contains(white) ? white : basis_white_;
 }
 
-Xyz Spectralizer::mapped_target(const Xyz& target, bool& moved) const {
+Xyz Spectralizer::mapped_target(const Xyz& target, bool& moved, bool* outside_locus) const {
   SpectrumResult r;
   const Xyz t = map_into_gamut(target, r);
   moved = r.status == Status::out_of_gamut;
+  if (outside_locus) *outside_locus = r.outside_locus;
   return t;
 }
 
@@ -213,6 +214,30 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   }
   SpectrumResult r = spectralize_target(target_of(xyz_d65));
   r.input = xyz_d65;
+  return r;
+}
+
+SpectrumResult Spectralizer::classify(const Xyz& xyz_d65) const {
+  SpectrumResult r;
+  r.values.assign(settings_.grid.size(), 0.0);
+  r.input = xyz_d65;
+  if (!xyz_d65.finite()) {
+    r.status = Status::invalid;
+    r.message = "colour has NaN or infinite components";
+    return r;
+  }
+  const Xyz t = target_of(xyz_d65);
+  if (t == Xyz{}) {
+    r.status = Status::black;
+    return r;
+  }
+  if (t.Y < 0) {
+    r.status = Status::invalid;
+    r.message = "colour has negative luminance (Y < 0)";
+    return r;
+  }
+  r.target = map_into_gamut(t, r);
+  if (!(r.target.Y > 0)) r.target = Xyz{};  // a colour of zero luminance maps to black
   return r;
 }
 

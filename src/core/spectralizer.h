@@ -120,6 +120,11 @@ class Spectralizer {
   /// throws; problems are in the status. Thread-safe. Cost: ~O(N^2 + L), tens of us at 5 nm.
   SpectrumResult spectralize(const Xyz& xyz_d65) const;
 
+  /// What spectralize() says about a colour without its spectrum: status, input, target (gamut
+  /// mapped), message, gamut distance; values all zero (for a table's spectrum of the colour).
+  /// Never throws. Cost: O(facets).
+  SpectrumResult classify(const Xyz& xyz_d65) const;
+
   /// As spectralize(), for a target already in the mode's terms (reflectance: white
   /// balanced, see target_of). Never throws. Thread-safe. Cost: as spectralize().
   SpectrumResult spectralize_target(const Xyz& target) const;
@@ -143,9 +148,10 @@ class Spectralizer {
   /// (reflectance: the reference white; emission: D65, or the basis' white when a narrow grid
   /// cannot make D65). Cost: O(facets).
   Xyz mapping_white() const;
-  /// The target a colour is mapped to (docs/DESIGN.md §5) and whether it was moved (more than
-  /// rounding); a target inside is returned as is. Never throws. Cost: O(facets).
-  Xyz mapped_target(const Xyz& target, bool& moved) const;
+  /// The target a colour is mapped to (docs/DESIGN.md §5), whether it was moved (more than
+  /// rounding) and whether it was outside the spectral locus; a target inside is returned as
+  /// is. Never throws. Cost: O(facets).
+  Xyz mapped_target(const Xyz& target, bool& moved, bool* outside_locus = nullptr) const;
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }

@@ -6,6 +6,7 @@
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
 #include "io/output_metadata.h"
+#include "io/render_table.h"
 #include "io/spectral_converter.h"
 #include "io/spectral_image_layout.h"
 #include "io/table_cache.h"
@@ -61,8 +62,9 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
              "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
 
   Parts& p = *parts_;
+  const Mat3 frame = table_frame(spaces, in.colorspace);
   if (pool) {
-    TablePool::Entry& e = pool->get(s, log);
+    TablePool::Entry& e = pool->get(s, frame, log);
     p.spectralizer = e.spectralizer.get();
     p.table = e.table.get();
     p.shared = true;
@@ -70,7 +72,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
     rep.cache_status = e.cache_status;
   } else {
     p.own_spectralizer = std::make_unique<Spectralizer>(s.spectral);
-    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method);
+    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method, frame);
     p.spectralizer = p.own_spectralizer.get();
     p.table = p.own_table.get();
     load_cache(log, warn);

@@ -45,6 +45,16 @@ std::optional<std::array<double, 8>> primaries_xy(const ColourSpaces& spaces,
 
 }  // namespace
 
+Mat3 table_frame(const ColourSpaces& spaces, std::string_view space) {
+  std::optional<Mat3> m;
+  try {
+    m = primaries_matrix(spaces, space);
+  } catch (const Error&) {
+  }
+  if (!m || !(relative_error(mul(*m, Xyz{1, 1, 1}), kWhiteD65) <= 1e-3)) return kRec709Frame;
+  return *m;
+}
+
 bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& m) {
   const ColourTransform t = spaces.to_xyz(space);
   // Inside and outside [0, 1], negative and above 1: a curve, a clamp or an offset shows.

@@ -10,6 +10,7 @@
 
 #include "core/exact_table.h"
 #include "core/mat3.h"
+#include "core/spectral_table.h"
 #include "io/colour_space.h"
 #include "io/job_log.h"
 #include "io/job_settings.h"
@@ -21,6 +22,12 @@ namespace spectralize {
 /// (0 and 1 survive any transfer function, so encoded spaces have one too); nullopt for data
 /// or a degenerate space. Cost: an OCIO processor.
 std::optional<Mat3> primaries_matrix(const ColourSpaces& spaces, std::string_view space);
+
+/// The frame of a job's exact table (core/spectral_table.h): the space's primaries matrix when
+/// its white is D65 (so that RGB (1, 1, 1) is the perfect reflector and the table's dense
+/// cells cover the space's cube, as in a render-time table for it), else Linear Rec.709's.
+/// Cost: an OCIO processor.
+Mat3 table_frame(const ColourSpaces& spaces, std::string_view space);
 
 /// True when the space's conversion to XYZ is that matrix (linear RGB, no curve), tested on
 /// colours inside and outside [0, 1]. Cost: an OCIO processor.

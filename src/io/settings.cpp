@@ -309,9 +309,10 @@ std::vector<SettingSpec> make_schema() {
                [](Settings& v, std::string_view t) { v.ingest.jobs = whole(t, 0, 256); },
                [](const Settings& v) { return std::to_string(v.ingest.jobs); }, nullptr});
   s.push_back({"method", "--method", "METHOD", "method",
-               "table (exact interpolation of cached node spectra) or exact (every distinct "
-               "colour solved directly; slow, for comparison)",
-               kImage | kIngest, true, false,
+               "table (the exact table's blend of node spectra, the spectra a renderer's table "
+               "file gives) or exact (every distinct colour solved directly: double precision "
+               "and the model's details; slow)",
+               kImage | kIngest | kColor | kPlotColor, true, false,
                [](Settings& v, std::string_view t) {
                  v.method = choice(t, {"table", "exact"}) == "table" ? SpectralTable::Method::table
                                                                      : SpectralTable::Method::exact;

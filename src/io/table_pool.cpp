@@ -8,10 +8,10 @@ namespace fs = std::filesystem;
 
 namespace spectralize {
 
-TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
+TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log) {
   // The key names everything the node spectra depend on (and the method: exact tables differ).
   auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
-  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method);
+  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method, frame);
   const std::string key = table_cache_key(s, table->layout()) +
                           (s.method == SpectralTable::Method::exact ? "; exact" : "");
   std::lock_guard<std::mutex> lock(mutex_);
