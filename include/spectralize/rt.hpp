@@ -792,8 +792,8 @@ inline bool TableView::cell_blend(const int i[3], const double f[3], const doubl
 }
 
 inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest) const noexcept {
-  int i[3];
-  double f[3];
+  int i[3] = {0, 0, 0};  // set by locate(); initialised for GCC's -Wmaybe-uninitialized
+  double f[3] = {0, 0, 0};
   if (!locate(u, i, f, nearest)) return false;
   if (cell_blend(i, f, u, s, false)) return true;
   if (!nearest) return false;
