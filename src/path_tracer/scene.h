@@ -39,10 +39,10 @@ struct Hit {
 
 /// The scene's layout (world units; y up).
 struct SceneLayout {
-  Vec3 eye{0, 2.6, 7.2}, target{0, 0.55, 0};
-  double vertical_fov_deg = 38;
-  Vec3 sphere_centre{-0.9, 1.0, 0.3};
-  double sphere_radius = 1.0;
+  Vec3 eye{0, 6.0, 5.2}, target{0, 0.3, 0.1};
+  double vertical_fov_deg = 44;
+  Vec3 sphere_centre{1.35, 0.95, -0.75};
+  double sphere_radius = 0.95;
   double floor_width = 6.0;  // the chart on the floor y = 0, centred on the origin, its height
                              // set by the texture's aspect ratio
 };
