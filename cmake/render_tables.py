@@ -16,12 +16,15 @@ def g3(v):
 
 def convergence(out):
     d = json.load(open(os.path.join(out, "convergence.json")))
-    rows = ["| spp | mean ΔE2000 | p95 | max |", "|---:|---:|---:|---:|"]
+    rows = ["| spp | mean ΔE2000 | p95 | max | previous mean ÷ mean |", "|---:|---:|---:|---:|---:|"]
+    previous = None
     for p in d["convergence"]:
         s = p["rt_vs_reference"]
-        rows.append(f"| {p['spp']} | {g3(s['mean'])} | {g3(s['p95'])} | {g3(s['max'])} |")
+        ratio = "–" if previous is None else "%.2f" % (previous / s["mean"])
+        previous = s["mean"]
+        rows.append(f"| {p['spp']} | {g3(s['mean'])} | {g3(s['p95'])} | {g3(s['max'])} | {ratio} |")
     f = d["floor"]
-    rows.append(f"| all 471 wavelengths | {g3(f['mean'])} | {g3(f['p95'])} | {g3(f['max'])} |")
+    rows.append(f"| all 471 wavelengths | {g3(f['mean'])} | {g3(f['p95'])} | {g3(f['max'])} | – |")
     return rows
 
 
