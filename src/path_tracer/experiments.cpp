@@ -81,6 +81,10 @@ ConvergenceReport run_convergence(const ConvergenceSetup& s) {
   const RtTexture rt_light(emission.get(), env_rgb.rgb, s.light_scale);
   const SampledSpectra dense_surface = SampledSpectra::read_exr(s.texture_spectra);
   const SampledSpectra dense_light = SampledSpectra::read_exr(s.environment_spectra, s.light_scale);
+  if (dense_surface.emissive())
+    throw Error("'" + s.texture_spectra + "': emissive (S0) spectra, not a texture's reflectances");
+  if (!dense_light.emissive())
+    throw Error("'" + s.environment_spectra + "': reflective (T) spectra, not a light's");
   if (dense_surface.texels() != rt_surface.texels() || dense_light.texels() != rt_light.texels())
     throw Error("the spectral files are not the size of the RGB images ('" + s.texture_spectra +
                 "', '" + s.environment_spectra + "')");
@@ -156,7 +160,8 @@ ComparisonReport run_comparison(const ComparisonSetup& s) {
                              ReferenceTable::kSize, std::move(spd),
                              std::vector<std::uint32_t>(luminance.size(), 0), luminance);
 
-  const SampledSpectra truth = measured_colorchecker(texture.width, texture.height);
+  const SampledSpectra truth = with_context(
+      "'" + s.texture + "'", [&] { return measured_colorchecker(texture.width, texture.height); });
   const RtTexture rt(reflectance.get(), texture.rgb);
   baseline::RgbToXyz rgb_to_xyz;
   for (int r = 0; r < 3; ++r)

@@ -58,9 +58,11 @@ SampledSpectra SampledSpectra::read_exr(const std::string& path, float scale) {
       spectra[p * bands + b] = all[p * spec.nchannels + layout.band_channels[b]];
     index[p] = static_cast<std::uint32_t>(p);
   }
-  return SampledSpectra(static_cast<float>(nm[0]), static_cast<float>(step), bands,
-                        std::move(spectra), std::move(index),
-                        scale == 1 ? std::vector<float>{} : std::vector<float>(pixels, scale));
+  SampledSpectra out(static_cast<float>(nm[0]), static_cast<float>(step), bands, std::move(spectra),
+                     std::move(index),
+                     scale == 1 ? std::vector<float>{} : std::vector<float>(pixels, scale));
+  out.emissive_ = layout.emissive;
+  return out;
 }
 
 void SampledSpectra::eval(std::uint32_t texel, std::span<const WavelengthPacket> packets,

@@ -32,6 +32,9 @@ class SampledSpectra final : public SpectralTexture {
             float* out) const override;
   /// Samples per spectrum. Cost: O(1).
   std::size_t bands() const { return bands_; }
+  /// True for emissive (S0) files, false for reflective (T) ones and for spectra given as
+  /// arrays. Cost: O(1).
+  bool emissive() const { return emissive_; }
 
  private:
   float start_, step_, inv_step_;
@@ -39,6 +42,7 @@ class SampledSpectra final : public SpectralTexture {
   std::vector<float> spectra_;
   std::vector<std::uint32_t> texel_spectrum_;
   std::vector<float> texel_scale_;
+  bool emissive_ = false;
 };
 
 }  // namespace spectralize::path_tracer

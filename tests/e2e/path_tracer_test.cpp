@@ -99,6 +99,15 @@ TEST(PathTracer, RtConvergesToTheDenseRenderOfSpectralizesOwnSpectra) {
   // Every texel of the chart and the HDRI is inside the tables' gamuts.
   EXPECT_EQ(doc.at("mapped_lookups").get<long>(), 0);
   EXPECT_EQ(doc.at("invalid_lookups").get<long>(), 0);
+
+  // The spectral files swapped: refused, the file named (a light's spectra are no texture).
+  const e2e::Run swapped = run_tracer(
+      "convergence --texture " + quote(kChart) + " --environment " + quote(kHdri) +
+          " --reflectance-table " + kReflectance + " --emission-table " + kEmission +
+          " --texture-spectra " + hdri_exr + " --environment-spectra " + chart_exr + " --size 4",
+      dir);
+  EXPECT_EQ(swapped.exit_code, 1);
+  EXPECT_NE(swapped.err.find(hdri_exr), std::string::npos) << swapped.err;
 }
 
 TEST(PathTracer, ComparisonUnderIlluminantAGivesPlausibleNumbers) {
@@ -158,6 +167,14 @@ TEST(PathTracer, BadCommandLinesAndFiles) {
   EXPECT_EQ(mode.exit_code, 1);
   EXPECT_NE(mode.err.find(kEmission), std::string::npos) << mode.err;
   EXPECT_NE(mode.err.find("emission"), std::string::npos) << mode.err;
+  // The comparison's truth is the ColorChecker chart's layout: another texture is refused.
+  const e2e::Run chart = run_tracer("compare --texture " + quote(kHdri) + " --texture-space " +
+                                        "'Linear Rec.709 (sRGB)' --environment " + quote(kHdri) +
+                                        " --reflectance-table " + kReflectance + " --size 4",
+                                    dir);
+  EXPECT_EQ(chart.exit_code, 1);
+  EXPECT_NE(chart.err.find(kHdri), std::string::npos) << chart.err;
+  EXPECT_NE(chart.err.find("110 x 74"), std::string::npos) << chart.err;
 }
 
 // The documents' figures (docs/figures/render_*.png) are what `make docs-renders` makes from the
