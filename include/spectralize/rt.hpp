@@ -34,6 +34,9 @@
 #if defined(__unix__) || defined(__APPLE__)
 #include <sys/stat.h>
 #endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace spz {
 
@@ -213,6 +216,16 @@ class TableView {
  private:
   bool locate(const double u[3], int cell_index[3], double f[3], bool clamp) const noexcept;
   bool blend(const double u[3], Spectrum& s, bool nearest) const noexcept;
+  template <int dims>
+  bool fast_blend(const float u[3], Spectrum& s) const noexcept;
+  struct AxisFast {  // one axis' lookup, hot in fetch()
+    const float* p;
+    const float* inv;
+    const std::uint32_t* lut;
+    float origin, inv_bin, last_bin;
+    std::uint32_t n;
+  };
+  AxisFast fast_[3] = {};
   bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
                   bool nearest) const noexcept;
   bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s,
@@ -339,9 +352,43 @@ inline float eval(const Spectrum& s, float lambda_nm) noexcept {
   return (s.flags & 2u) ? std::min(acc, 1.0f) : acc;
 }
 
-/// The values at four wavelengths. Cost: O(1), 32 loads.
+/// The values at four wavelengths. Cost: O(1), 32 loads; the arithmetic in SSE lanes where
+/// the compiler targets SSE2 (every x86-64), else the same in plain C++.
 inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noexcept {
   const TableView& t = *static_cast<const TableView*>(s.table);
+#if defined(__SSE2__)
+  if (!(s.flags & 1u)) {
+    const __m128 l = _mm_loadu_ps(lambda_nm), start = _mm_set1_ps(t.start_);
+    const __m128 inv = _mm_set1_ps(t.inv_step_), zero = _mm_setzero_ps(), one = _mm_set1_ps(1);
+    const __m128 x = _mm_mul_ps(_mm_sub_ps(l, start), inv);
+    const __m128 in = _mm_and_ps(_mm_cmpge_ps(x, zero), _mm_cmple_ps(x, _mm_set1_ps(t.last_)));
+    // The interval (k <= N - 2) and the position in it from its own start (interval_of).
+    const __m128 xk = _mm_min_ps(_mm_and_ps(in, x), _mm_set1_ps(static_cast<float>(t.bands_ - 2)));
+    const __m128i ki = _mm_cvttps_epi32(xk);
+    const __m128 lk = _mm_add_ps(start, _mm_mul_ps(_mm_cvtepi32_ps(ki), _mm_set1_ps(t.step_)));
+    const __m128 lc = _mm_or_ps(_mm_and_ps(in, l), _mm_andnot_ps(in, start));
+    const __m128 f = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(lc, lk), inv), one), zero);
+    alignas(16) std::int32_t k[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(k), ki);
+    __m128 acc = zero;
+    for (int v = 0; v < 4; ++v) {
+      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
+      // Each lane's two samples in one 8-byte load, then split into a (k) and b (k + 1).
+      __m128 lo = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[0]));
+      lo = _mm_loadh_pi(lo, reinterpret_cast<const __m64*>(p + k[1]));
+      __m128 hi = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[2]));
+      hi = _mm_loadh_pi(hi, reinterpret_cast<const __m64*>(p + k[3]));
+      const __m128 a = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 b = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+      const __m128 value = _mm_add_ps(a, _mm_mul_ps(f, _mm_sub_ps(b, a)));
+      acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(s.weight[v]), value));
+    }
+    acc = _mm_and_ps(in, _mm_mul_ps(acc, _mm_set1_ps(s.scale)));
+    if (s.flags & 2u) acc = _mm_min_ps(acc, one);
+    _mm_storeu_ps(out, acc);
+    return;
+  }
+#endif
   std::uint32_t k[4];
   float f[4], acc[4] = {0, 0, 0, 0};
   bool in[4];
@@ -558,10 +605,25 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     lut_size_[a] = h->lut_size[a];
     lut_origin_[a] = h->lut_origin[a];
     lut_inv_[a] = h->lut_inverse_bin[a];
-    // Each bin names an interval (the lookup then steps to the one holding the point).
-    for (std::uint32_t b = 0; b < lut_size_[a]; ++b)
-      if (n_[a] > 1 && lut_[a][b] > n_[a] - 2)
+    // Each bin names the interval holding its start (the lookup then steps at most one
+    // interval either way), exactly as the writer makes it; bins are no wider than half the
+    // shortest interval.
+    if (n_[a] > 1) {
+      float shortest = INFINITY;
+      for (std::uint32_t k = 0; k + 1 < n_[a]; ++k)
+        shortest = std::min(shortest, axis_[a][k + 1] - axis_[a][k]);
+      if (!(1 / lut_inv_[a] <= 0.5f * shortest * (1 + 1e-5f)) || lut_origin_[a] != axis_[a][0] ||
+          !(static_cast<double>(lut_size_[a] - 1) / lut_inv_[a] >=
+            static_cast<double>(axis_[a][n_[a] - 1] - axis_[a][0]) * (1 - 1e-6)))
+        return say(error, error_size, "bad lookup of axis %d", a), false;
+    }
+    std::uint32_t expect = 0;
+    for (std::uint32_t b = 0; b < lut_size_[a]; ++b) {
+      const float at = lut_origin_[a] + static_cast<float>(b) / lut_inv_[a];
+      while (expect + 2 < n_[a] && at >= axis_[a][expect + 1]) ++expect;
+      if (lut_[a][b] != expect)
         return say(error, error_size, "bad lookup entry of axis %d", a), false;
+    }
     lut_at += lut_size_[a];
   }
   slots_ = u32(SPZ_SECTION_NODE_SLOTS);
@@ -633,6 +695,9 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   locus_ = {f64(SPZ_SECTION_LOCUS_PLANES), count[SPZ_SECTION_LOCUS_PLANES] / 4};
   solid_ = {f64(SPZ_SECTION_SOLID_PLANES), count[SPZ_SECTION_SOLID_PLANES] / 4};
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
+  for (int a = 0; a < 3; ++a)
+    fast_[a] = {axis_[a], inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a], lut_inv_[a],
+                static_cast<float>(lut_size_[a] - 1), n_[a]};
   h_ = h;
   reflectance_ = reflectance;
   bands_ = bands;
@@ -791,6 +856,67 @@ inline bool TableView::cell_blend(const int i[3], const double f[3], const doubl
   return boundary_blend(code & ~SPZ_BOUNDARY_BIT, i, u, s, nearest);
 }
 
+// The lookup of fetch(): float arithmetic, one interval step after the bin, Kuhn weights in
+// float; boundary cells in double (boundary_blend).
+template <int dims>
+inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept {
+  std::uint32_t i[3] = {0, 0, 0};
+  float f[3] = {0, 0, 0};
+  bool inside = true;
+  for (int a = 0; a < dims; ++a) {
+    const AxisFast& x = fast_[a];
+    const float v = u[a];
+    inside = inside && v >= x.p[0] && v <= x.p[x.n - 1];  // false for NaN
+    const float b = std::min(std::max((v - x.origin) * x.inv_bin, 0.0f), x.last_bin);
+    std::uint32_t k = x.lut[static_cast<std::uint32_t>(b)];
+    k -= static_cast<std::uint32_t>(k > 0) & static_cast<std::uint32_t>(v < x.p[k]);
+    k += static_cast<std::uint32_t>(k + 2 < x.n) & static_cast<std::uint32_t>(v >= x.p[k + 1]);
+    i[a] = k;
+    f[a] = std::min(std::max((v - x.p[k]) * x.inv[k], 0.0f), 1.0f);
+  }
+  if (!inside) return false;
+  const std::uint32_t nx = n_[0], nxy = n_[0] * n_[1];
+  const std::uint32_t code = cells_[i[0] + (nx - 1) * (i[1] + (n_[1] - 1) * i[2])];
+  if (code != 0) {
+    if (code == SPZ_OUTSIDE) return false;
+    const int ii[3] = {static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])};
+    const double du[3] = {u[0], u[1], dims == 3 ? u[2] : 0.0};
+    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false);
+  }
+  // Kuhn: the axes in decreasing order of their fractions; the weights are the gaps.
+  const std::uint32_t base = i[0] + nx * i[1] + nxy * i[2];
+  s.flags &= ~1u;
+  if constexpr (dims == 2) {
+    const bool xy = f[0] >= f[1];
+    const float hi = xy ? f[0] : f[1], lo = xy ? f[1] : f[0];
+    s.vertex[0] = s.vertex[3] = slots_[base];
+    s.vertex[1] = slots_[base + (xy ? 1 : nx)];
+    s.vertex[2] = slots_[base + 1 + nx];
+    s.weight[0] = 1 - hi, s.weight[1] = hi - lo, s.weight[2] = lo, s.weight[3] = 0;
+    return true;
+  } else {
+    // Without branches (the order of noisy texels' fractions is unpredictable): each axis'
+    // rank among the three (ties by axis order), the walk's first and second steps from the
+    // ranks, the weights from max, middle and min.
+    const std::uint32_t gt01 = f[1] > f[0], gt02 = f[2] > f[0], gt12 = f[2] > f[1];
+    const std::uint32_t r0 = gt01 + gt02, r1 = (1 - gt01) + gt12, r2 = (1 - gt02) + (1 - gt12);
+    const std::uint32_t first = (r0 == 0) * 1 + (r1 == 0) * nx + (r2 == 0) * nxy;
+    const std::uint32_t second = (r0 == 1) * 1 + (r1 == 1) * nx + (r2 == 1) * nxy;
+    const float hi = std::max(std::max(f[0], f[1]), f[2]);
+    const float lo = std::min(std::min(f[0], f[1]), f[2]);
+    const float mid = f[0] + f[1] + f[2] - hi - lo;
+    s.vertex[0] = slots_[base];
+    s.vertex[1] = slots_[base + first];
+    s.vertex[2] = slots_[base + first + second];
+    s.vertex[3] = slots_[base + 1 + nx + nxy];
+    s.weight[0] = 1 - hi;
+    s.weight[1] = hi - mid;
+    s.weight[2] = mid - lo;
+    s.weight[3] = lo;
+    return true;
+  }
+}
+
 inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest) const noexcept {
   int i[3] = {0, 0, 0};  // set by locate(); initialised for GCC's -Wmaybe-uninitialized
   double f[3] = {0, 0, 0};
@@ -822,9 +948,8 @@ inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
   s.table = this;
   s.flags = reflectance_ ? 2u : 0u;
   if (reflectance_) {
-    const double u[3] = {rgb[0], rgb[1], rgb[2]};
     s.scale = 1;
-    if (blend(u, s, false)) return SPZ_EXACT;
+    if (fast_blend<3>(rgb, s)) return SPZ_EXACT;
   } else {
     const float* m = to_target_f_;
     const float X = m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2];
@@ -832,9 +957,9 @@ inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
     const float Z = m[6] * rgb[0] + m[7] * rgb[1] + m[8] * rgb[2];
     const float S = X + Y + Z;
     if (S > 0 && std::isfinite(S)) {
-      const double u[3] = {X / S, Y / S, 0};
+      const float u[3] = {X / S, Y / S, 0};
       s.scale = S;
-      if (blend(u, s, false)) return SPZ_EXACT;
+      if (fast_blend<2>(u, s)) return SPZ_EXACT;
     }
   }
   return slow_fetch(rgb, s);
