@@ -696,8 +696,8 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   solid_ = {f64(SPZ_SECTION_SOLID_PLANES), count[SPZ_SECTION_SOLID_PLANES] / 4};
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
   for (int a = 0; a < 3; ++a)
-    fast_[a] = {axis_[a], inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a], lut_inv_[a],
-                static_cast<float>(lut_size_[a] - 1), n_[a]};
+    fast_[a] = {axis_[a],    inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a],
+                lut_inv_[a], static_cast<float>(lut_size_[a] - 1), n_[a]};
   h_ = h;
   reflectance_ = reflectance;
   bands_ = bands;

@@ -7,6 +7,7 @@
 
 #include <spectralize/rt.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstring>
@@ -149,7 +150,11 @@ void BM_ExemplarNearMeasured(benchmark::State& state) {
 // cells); 0: 64k independent random linear sRGB colours (every pixel a cache miss, worst case).
 // The pixels of the table benchmarks, linear Rec.709 RGB in [0, 1]: a 256x256 smooth colour
 // field with 2% noise (image) or 64k independent random colours.
-std::vector<std::array<float, 3>> benchmark_pixels(bool image) {
+// kind 1: image-like (a smooth walk through the cube with a little noise); 0: independent
+// random colours; 2: random colours with a channel above 0.95 (cells at the reflectance
+// solid's boundary in sRGB).
+std::vector<std::array<float, 3>> benchmark_pixels(int kind) {
+  const bool image = kind == 1;
   std::vector<std::array<float, 3>> pixels(1 << 16);
   std::uint32_t seed = 12345;
   auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
@@ -159,7 +164,9 @@ std::vector<std::array<float, 3>> benchmark_pixels(bool image) {
       pixels[i] = {float(0.1 + 0.8 * u + 0.02 * rnd()), float(0.2 + 0.6 * v + 0.02 * rnd()),
                    float(0.5 - 0.3 * u * v + 0.02 * rnd())};
     } else {
-      pixels[i] = {float(rnd()), float(rnd()), float(rnd())};
+      do {
+        pixels[i] = {float(rnd()), float(rnd()), float(rnd())};
+      } while (kind == 2 && std::max({pixels[i][0], pixels[i][1], pixels[i][2]}) <= 0.95f);
     }
   }
   return pixels;
@@ -285,7 +292,7 @@ void BM_SpzFetch(benchmark::State& state) {
 // over the threads, per second of wall time.
 void BM_SpzSpectraArray(benchmark::State& state) {
   const spz::TableView& table = srgb_table();
-  static const auto pixels = benchmark_pixels(true);
+  static const auto pixels = benchmark_pixels(1);
   std::vector<float> out(pixels.size() * 81);
   for (auto _ : state) {
     for (std::size_t i = 0; i < pixels.size(); ++i) {
@@ -321,6 +328,8 @@ BENCHMARK(BM_TableSynthesis)
     ->Args({1, 1})
     ->Args({0, 0})
     ->Args({1, 0})
+    ->Args({0, 2})
+    ->Args({1, 2})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TableSynthesis)
     ->Name("BM_TableSynthesis/threads")
