@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "figures/colour_difference.h"
+#include "core/colour_difference.h"
 
 namespace spectralize::path_tracer {
 
