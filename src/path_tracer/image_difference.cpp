@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "core/error.h"
 #include "core/colour_difference.h"
+#include "core/error.h"
 
 namespace spectralize::path_tracer {
 

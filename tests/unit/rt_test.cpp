@@ -419,8 +419,8 @@ void expect_model_nodes(spz_table* table, const Spectralizer& sp, const Conventi
     return sp.spectralize(xyz).values;
   };
   auto node = [](int k) {
-    const float x = float(k) / 24;
-    return double(float(double(x) * double(x)));  // the table's positions, as float
+    const double x = k / 24.0;
+    return double(float(x * x));  // the table's positions, (k/24)^2 rounded to float
   };
   std::mt19937 rng(3);
   std::uniform_int_distribution<int> index(1, 22);
