@@ -21,6 +21,8 @@
 #include "io/image_report.h"
 #include "io/ingest.h"
 #include "io/job_settings.h"
+#include "io/render_table.h"
+#include "io/safe_output.h"
 #include "io/shard.h"
 #include "io/table_pool.h"
 #include "py_arrays.h"
@@ -41,6 +43,7 @@ const OptionScope kToRgbScope{"to_rgb", kToRgb, {"format", "compression", "tile"
 const OptionScope kConvertScope{"convert", kImage, {}, {}};
 const OptionScope kConvertRgbScope{"convert", kToRgb, {}, {}};
 const OptionScope kIngestScope{"ingest", kIngest, {}, {}};
+const OptionScope kTableScope{"table", kTable, {}, {}};
 
 // Process-wide state: the node tables (shared by every call, saved to `cache=` folders) and the
 // colour setups by their settings. Never destroyed: Python may unload modules in any order.
@@ -306,6 +309,44 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   return d;
 }
 
+// spectralize.table(output, **options): `spectralize table -o output`, the same bytes.
+py::dict table(const py::object& output, const py::kwargs& options) {
+  const std::string out = path_text(output, "table", "output");
+  Settings settings = read_options(options, kTableScope);
+  try {
+    settings = checked_table_settings(settings, out, kKeywordNames);
+  } catch (const Error& e) {
+    value_error(kTableScope, e.what());
+  }
+  Messages messages;
+  RenderTable made;
+  std::string failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      AtomicOutput file(out, {});  // checked before the work
+      made = make_render_table(settings, messages.log());
+      file.write(made.bytes);
+      file.commit();
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  messages.emit();
+  if (!failure.empty()) os_error(failure);
+  py::dict d;
+  d["output"] = out;
+  d["colorspace"] = made.colorspace;
+  d["mode"] = std::string(to_string(settings.spectral.mode));
+  d["model"] = settings.spectral.model;
+  d["wavelengths"] = settings.spectral.grid.to_string();
+  d["bytes"] = made.bytes.size();
+  d["spectra"] = made.spectra;
+  d["boundary_cells"] = made.boundary_cells;
+  d["seconds"] = made.seconds;
+  return d;
+}
+
 py::list models() {
   py::list list;
   for (const ModelInfo& m : spectrum_models()) {
@@ -331,6 +372,7 @@ Functions:
     convert(input, output, to="spectral", **options)
                                              an image file to a spectral OpenEXR, or back
     ingest(sources, output, **options)       a texture library to spectral OpenEXR files
+    table(output, **options)                 a render-time table (.spztab) of a colour space
     models()                                 the spectrum models
 
 Options are the command-line tool's, named by their recipe keys (--emission-basis is
@@ -399,6 +441,16 @@ PYBIND11_MODULE(spectralize, m) {
          "conversions.\n\n"
          "Options:\n" +
          options_doc(kIngestScope))
+            .c_str());
+  m.def("table", &table, py::arg("output"),
+        ("table(output, **options) -> summary (dict)\n\n"
+         "The render-time table of exact spectra of a linear colour space (NAME.spztab), as\n"
+         "`spectralize table -o NAME.spztab` writes it, byte for byte, for renderers that read it\n"
+         "with spectralize/rt.h. mode='reflectance' (the default) or 'emission'. Written\n"
+         "atomically. Returns the colour space, mode, model, wavelengths, size in bytes, node\n"
+         "spectra, boundary cells and seconds. Cost: a few seconds (every node's solve).\n\n"
+         "Options:\n" +
+         options_doc(kTableScope))
             .c_str());
   m.def("models", &models,
         "models() -> list of dicts (name, summary, default): the spectrum models for model=.");

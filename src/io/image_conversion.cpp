@@ -9,6 +9,7 @@
 #include "io/input_interpretation.h"
 #include "io/json_text.h"
 #include "io/output_metadata.h"
+#include "io/render_table.h"
 #include "io/spectral_converter.h"
 #include "io/spectral_image_layout.h"
 #include "io/table_cache.h"
@@ -71,8 +72,9 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
              "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
 
   Parts& p = *parts_;
+  const Mat3 frame = table_frame(spaces, in.colorspace);
   if (TablePool* pool = context.pool) {
-    TablePool::Entry& e = pool->get(s, log);
+    TablePool::Entry& e = pool->get(s, frame, log);
     p.spectralizer = e.spectralizer.get();
     p.table = e.table.get();
     p.shared = true;
@@ -80,7 +82,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
     rep.cache_status = e.cache_status;
   } else {
     p.own_spectralizer = std::make_unique<Spectralizer>(s.spectral);
-    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method);
+    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method, frame);
     p.spectralizer = p.own_spectralizer.get();
     p.table = p.own_table.get();
     load_cache(log, warn);

@@ -12,9 +12,10 @@ namespace spectralize {
 
 namespace {
 
-constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest;
+constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest | kTable;
 constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
-constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest;
+constexpr unsigned kAllCommands =
+    kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest | kTable;
 
 std::string quoted(std::string_view text) {
   return quote(text);
@@ -102,14 +103,15 @@ std::vector<SettingSpec> make_schema() {
   s.push_back({"colorspace", "--colorspace", "NAME", "colorspace",
                "Colour space of the input (--to-rgb: of the output): a name, alias or role of "
                "the OCIO config",
-               kImage | kToRgb | kColor | kPlotColor | kIngest, true, false,
+               kImage | kToRgb | kColor | kPlotColor | kIngest | kTable, true, false,
                [](Settings& v, std::string_view t) { v.colorspace = std::string(t); },
                [](const Settings& v) { return v.colorspace; },
                [](const Settings& v) { return !v.colorspace.empty(); },
                "from the file rules, the file, then the config's roles"});
   s.push_back({"mode", "--mode", "MODE", "mode",
                "emission (lights, HDR), reflectance (surfaces, 0 <= rho <= 1) or auto (float "
-               "data and --color values are light, integer data a texture)",
+               "data and --color values are light, integer data a texture; a table is for "
+               "textures)",
                kSpectrumCommands, true, true,
                [](Settings& v, std::string_view t) {
                  const std::string_view c = choice(t, {"auto", "emission", "reflectance"});
@@ -311,9 +313,10 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return std::to_string(v.ingest.jobs); }, nullptr});
   s.back().shapes_file = false;  // how the batch runs
   s.push_back({"method", "--method", "METHOD", "method",
-               "table (exact interpolation of cached node spectra) or exact (every distinct "
-               "colour solved directly; slow, for comparison)",
-               kImage | kIngest, true, false,
+               "table (the exact table's blend of node spectra, the spectra a renderer's table "
+               "file gives) or exact (every distinct colour solved directly: double precision "
+               "and the model's details; slow)",
+               kImage | kIngest | kColor | kPlotColor, true, false,
                [](Settings& v, std::string_view t) {
                  v.method = choice(t, {"table", "exact"}) == "table" ? SpectralTable::Method::table
                                                                      : SpectralTable::Method::exact;
@@ -333,7 +336,7 @@ std::vector<SettingSpec> make_schema() {
   s.push_back({"threads", "--threads", "N", "",
                "Cores to use: conversion and compression workers (0: all; 1: one core); the output "
                "does not depend on it",
-               kFileCommands, true, false,
+               kFileCommands | kTable, true, false,
                [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
                [](const Settings& v) { return std::to_string(v.threads); }, nullptr});
   s.back().shapes_file = false;  // how the job runs (the output does not depend on it)

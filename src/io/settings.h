@@ -25,6 +25,7 @@ enum Command : unsigned {
   kPlotColor = 1u << 3,  // --color R,G,B -o PLOT
   kPlotPixel = 1u << 4,  // --plot-pixel X,Y IN.exr -o PLOT
   kIngest = 1u << 5,     // ingest SRC... -o DESTDIR
+  kTable = 1u << 6,      // table -o NAME.spztab (a render-time table, io/render_table.h)
 };
 
 /// How the mode is chosen.

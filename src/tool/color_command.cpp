@@ -72,7 +72,7 @@ int run_color(const Options& opt) {
   const std::string ext = std::filesystem::path(opt.output).extension().string();
   const bool json = opt.given.count("--format") ? opt.settings.json : ext == ".json";
   const ColourInputs in = colour_inputs(opt);
-  const auto& [settings, colours, spaces, to_xyz] = in;
+  const auto& [settings, colours, spaces, to_xyz, frame] = in;
   // The destination is checked before any work (a file, or a stream such as /dev/stdout).
   std::unique_ptr<AtomicOutput> file;
   if (!opt.output.empty())
@@ -80,10 +80,14 @@ int run_color(const Options& opt) {
         std::make_unique<AtomicOutput>(opt.output, WriteRules::named("the output (-o)").streams());
 
   Spectralizer spectralizer(settings);
+  // The exact table, as images and renderers' table files give spectra (--method exact: solved).
+  std::unique_ptr<SpectralTable> table;
+  if (opt.settings.method == SpectralTable::Method::table)
+    table = std::make_unique<SpectralTable>(spectralizer, SpectralTable::Method::table, frame);
   std::vector<SpectrumResult> results;
   int status = kExitOk;
   for (const Rgb& c : colours)
-    results.push_back(spectralize_colour(spectralizer, to_xyz, c, status));
+    results.push_back(spectralize_colour(spectralizer, table.get(), to_xyz, c, status));
 
   std::string text;
   const auto& grid = settings.grid;
