@@ -18,6 +18,9 @@ std::string quote(const std::string& path) {
 
 ImageReader::ImageReader(const std::string& path, int output_channels, bool straight_alpha)
     : path_(path) {
+  // Opening may nest (a recipe's source is opened by the plugin on this thread): if that ever
+  // overflows the stack, the crash handler still needs a stack to run on.
+  ensure_signal_stack();
   // Refused before OIIO sees it: a FIFO or a device would block or never end.
   check_readable_file(path, "input");
   OIIO::ImageSpec config;
