@@ -132,13 +132,13 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const std::size_t sample = sink.type().size();
   const int strip =
       strip_rows(spec.height, sink.block_rows(), width * out_nch * sample, worker_count(threads));
-  // The converter writes float; HALF strips are filled a few rows at a time through a float
-  // scratch buffer of ~8 MB (so the strip is never held as float too).
+  // Rows are converted ~8 MB of float samples at a time, and progress is told after each (a
+  // caller that stops the job is heard within one of them, docs/DESIGN.md §10). The converter
+  // writes float; HALF strips are filled through a float scratch buffer of that size (so the
+  // strip is never held as float too).
   const bool narrow = sink.type() != OIIO::TypeFloat;
   const int sub =
-      narrow
-          ? std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip)
-          : strip;
+      std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip);
   std::vector<float> inbuf(width * strip * nch);
   std::vector<float> scratch(narrow ? width * sub * out_nch : 0);
   std::vector<unsigned char> outbufs[2] = {
@@ -158,11 +158,12 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
       unsigned char* dst = out + width * static_cast<std::size_t>(r0 - y0) * out_nch * sample;
       if (!narrow) {
         convert(src, n, reinterpret_cast<float*>(dst));
-        continue;
+      } else {
+        convert(src, n, scratch.data());
+        OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
+                                   static_cast<int>(n * out_nch));
       }
-      convert(src, n, scratch.data());
-      OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
-                                 static_cast<int>(n * out_nch));
+      if (progress && r1 < y1) progress(width * r1, width * spec.height);
     }
     auto t1 = Clock::now();
     t_convert += std::chrono::duration<double>(t1 - t0).count();

@@ -1,6 +1,7 @@
 #include "io/rgb_from_spectral.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,13 @@
 namespace spectralize {
 
 namespace {
+
+// A wavelength as given (the shortest text that reads back as the same double).
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 // At least two bands, and some inside the CIE tables (360-830 nm), or no colour can be made.
 void check_band_span(std::size_t bands, double first_nm, double last_nm, const std::string& where) {
@@ -36,9 +44,8 @@ SpectralLayoutInfo spectral_layout_of_samples(const std::vector<double>& wavelen
     if (!std::isfinite(wavelengths[i]))
       throw Error(where + "wavelength " + std::to_string(i) + " is not finite");
     if (i > 0 && !(wavelengths[i] > wavelengths[i - 1]))
-      throw Error(where + "wavelengths must increase strictly (" +
-                  std::to_string(wavelengths[i - 1]) + " then " + std::to_string(wavelengths[i]) +
-                  " nm at " + std::to_string(i) + ")");
+      throw Error(where + "wavelengths must increase strictly (" + shortest(wavelengths[i - 1]) +
+                  " then " + shortest(wavelengths[i]) + " nm at " + std::to_string(i) + ")");
     info.band_channels.push_back(static_cast<int>(i));
   }
   if (!wavelengths.empty())
