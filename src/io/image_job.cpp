@@ -132,15 +132,17 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const std::size_t sample = sink.type().size();
   const int strip =
       strip_rows(spec.height, sink.block_rows(), width * out_nch * sample, worker_count(threads));
-  // Rows are converted ~8 MB of float samples at a time, and progress is told after each (a
-  // caller that stops the job is heard within one of them, docs/DESIGN.md §10). The converter
-  // writes float; HALF strips are filled through a float scratch buffer of that size (so the
-  // strip is never held as float too).
+  // Rows are converted in pieces of ~0.1 s (at most ~8 MB of float samples; the first piece is
+  // one row, then sized from the time the last one took), and progress is told after each: a
+  // caller that stops the job is heard within one piece, whatever the method and grid
+  // (docs/DESIGN.md §10). The converter writes float; HALF strips are filled through a float
+  // scratch buffer of that size (so the strip is never held as float too).
   const bool narrow = sink.type() != OIIO::TypeFloat;
-  const int sub =
+  const int max_sub =
       std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip);
+  int sub = 1;
   std::vector<float> inbuf(width * strip * nch);
-  std::vector<float> scratch(narrow ? width * sub * out_nch : 0);
+  std::vector<float> scratch(narrow ? width * max_sub * out_nch : 0);
   std::vector<unsigned char> outbufs[2] = {
       std::vector<unsigned char>(width * strip * out_nch * sample),
       std::vector<unsigned char>(width * strip * out_nch * sample)};
@@ -151,8 +153,9 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     unsigned char* out = outbufs[k % 2].data();
     auto t0 = Clock::now();
     in.read_rows(y0, y1, inbuf.data());
-    for (int r0 = y0; r0 < y1; r0 += sub) {
-      const int r1 = std::min(y1, r0 + sub);
+    for (int r0 = y0, r1 = y0; r0 < y1; r0 = r1) {
+      r1 = std::min(y1, r0 + sub);
+      const auto piece_start = Clock::now();
       const std::size_t n = width * static_cast<std::size_t>(r1 - r0);
       const float* src = inbuf.data() + width * static_cast<std::size_t>(r0 - y0) * nch;
       unsigned char* dst = out + width * static_cast<std::size_t>(r0 - y0) * out_nch * sample;
@@ -163,6 +166,9 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
         OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
                                    static_cast<int>(n * out_nch));
       }
+      const double took = seconds_since(piece_start);
+      sub = std::clamp(took > 0 ? static_cast<int>(sub * 0.1 / took) : max_sub, 1,
+                       std::min(max_sub, 2 * sub));
       if (progress && r1 < y1) progress(width * r1, width * spec.height);
     }
     auto t1 = Clock::now();

@@ -57,7 +57,8 @@ def test_spectra_stops_within_a_second(tmp_path):
 
 def test_convert_stops_within_a_second_leaving_nothing(tmp_path):
     call = (f"spectralize.convert({str(IMAGES / 'hdri_interior_1024x512.exr')!r}, 'o.exr', "
-            "wavelengths='360:830:1', format='float', method='exact', threads=1)")
+            "wavelengths='360:830:1', format='float', method='exact', threads=1, "
+            "compression='none')")
     r = run_interrupted(call, "time.sleep(0.5)", tmp_path)
     assert r["raised"] == "KeyboardInterrupt", r
     assert r["after_signal"] < 1.0, r
@@ -75,7 +76,7 @@ def test_ingest_stops_within_a_second_and_reports_what_was_done(tmp_path):
         (lib / name).write_bytes(big)
     # One file at a time, the small one first; the signal once its output exists.
     call = ("spectralize.ingest('lib', 'out', jobs=1, threads=1, method='exact', "
-            "wavelengths='380:780:10')")
+            "wavelengths='380:780:10', compression='none')")
     trigger = ("while not list(pathlib.Path('out').glob('*.exr')):\n"
                "        time.sleep(0.01)")
     r = run_interrupted(call, trigger, tmp_path)
