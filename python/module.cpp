@@ -274,8 +274,11 @@ py::object convert(const py::object& input, const py::object& output, const std:
   std::vector<std::string> given;
   Settings settings = read_options(options, scope, &given);
   try {
-    const bool format_given = std::find(given.begin(), given.end(), "format") != given.end();
-    settings = rgb ? checked_to_rgb_settings(settings, out, format_given, kKeywordNames)
+    const auto is_given = [&](const char* key) {
+      return std::find(given.begin(), given.end(), key) != given.end();
+    };
+    settings = rgb ? checked_to_rgb_settings(settings, out, is_given("format"),
+                                             is_given("compression"), kKeywordNames)
                    : checked_image_settings(settings, out, kKeywordNames);
   } catch (const Error& e) {
     value_error(scope, e.what());
