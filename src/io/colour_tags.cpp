@@ -30,7 +30,9 @@ std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpa
   const OutputFormat* f = output_format_named(format);
   const ColourSlot slot = f ? f->colour : ColourSlot::srgb;
   if (data || slot == ColourSlot::attributes) return warnings;
-  const std::string where = "'" + clip(file, 200) + "': ";
+  // Appended, not "'" + clip(...): GCC 12 sees a bogus overflow in operator+(const char*, &&).
+  std::string where(1, '\'');
+  where.append(clip(file, 200)).append("': ");
   if (slot == ColourSlot::linear_rec709) {
     // RGBE says only "linear"; readers take Rec.709 primaries and a D65 white.
     if (id != "lin_rec709_scene")

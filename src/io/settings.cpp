@@ -19,7 +19,9 @@ constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
 constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest;
 
 std::string quoted(std::string_view text) {
-  return "'" + clip(text) + "'";
+  // Appended, not "'" + clip(...): GCC 12 sees a bogus overflow in operator+(const char*, &&).
+  std::string out(1, '\'');
+  return out.append(clip(text)).append("'");
 }
 
 // A whole number in [lo, hi]; throws Error naming the value.
