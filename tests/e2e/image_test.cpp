@@ -605,12 +605,18 @@ TEST(CliImage, InputCompressionAndSampleTypeDoNotChangePeakMemory) {
             (s / (type + "_" + compression + ".exr"));
   ASSERT_EQ(std::system((make + " >/dev/null 2>&1").c_str()), 0);
   // Few bands and no output compression: the input's share of the memory is what is measured.
+  // The smaller of two runs: peak RSS of one run varies by ~7 MB on a busy machine (threads'
+  // timing), always upwards.
   const auto peak = [&](const std::string& type, const std::string& compression) {
-    const e2e::Measured m = e2e::run_measured(
-        std::string(SPECTRALIZE_BINARY) + " " + (s / (type + "_" + compression + ".exr")) + " -o " +
-        (s / "o.exr") + " -q --threads 2 --wavelengths 400:700:100 --compression none");
-    EXPECT_EQ(m.exit_code, 0) << type << " " << compression;
-    return m.peak_mb;
+    double least = 0;
+    for (int run = 0; run < 2; ++run) {
+      const e2e::Measured m = e2e::run_measured(
+          std::string(SPECTRALIZE_BINARY) + " " + (s / (type + "_" + compression + ".exr")) +
+          " -o " + (s / "o.exr") + " -q --threads 2 --wavelengths 400:700:100 --compression none");
+      EXPECT_EQ(m.exit_code, 0) << type << " " << compression;
+      least = run == 0 ? m.peak_mb : std::min(least, m.peak_mb);
+    }
+    return least;
   };
   const double zip = peak("float", "zip");
   for (std::size_t i = 1; i < stored.size(); ++i) {
