@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -33,9 +32,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kStripRows = 64;  // rows converted at a time
-
-// Recipes being opened on this thread: a recipe whose source leads back to one of them loops.
-thread_local std::set<std::string> t_opening;
 
 // Reads at most `limit` + 1 bytes of a regular file (never blocks on a FIFO or a device).
 bool read_text(const std::string& path, std::string& text, std::size_t limit) {
@@ -76,6 +72,7 @@ class SpectralInput final : public ImageInput {
   std::string recipe_path_;
   std::unique_ptr<spectralize::ImageReader> source_;
   spectralize::Settings settings_;
+  bool cache_write_ = false;  // the recipe (or "spectral:cache_write") asked to save the cache
   // RGB -> spectral
   std::unique_ptr<spectralize::ImageConversion> conversion_;
   // spectral -> RGB
@@ -109,17 +106,10 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
   }
   std::error_code ec;
   const std::string key = fs::weakly_canonical(fs::absolute(name), ec).string();
-  if (t_opening.count(key)) {
-    errorfmt("'{}': the recipe's source leads back to the recipe itself (a loop)", name);
-    return false;
-  }
-  struct Guard {
-    std::string key;
-    ~Guard() { t_opening.erase(key); }
-  } guard{key};
-  t_opening.insert(key);
-
   try {
+    // This recipe joins the thread's chain of recipes being opened: a source that leads back to
+    // one of them, or a chain deeper than the limit, is refused here (docs/DESIGN.md §9).
+    const spectralize::RecipeChainLink link(name);
     spectralize::Recipe recipe = spectralize::parse_recipe(text, name, overrides);
     if (fs::weakly_canonical(fs::absolute(recipe.source), ec).string() == key) {
       errorfmt("'{}': the recipe's source is the recipe itself", name);
@@ -130,6 +120,11 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
       return false;
     }
     settings_ = recipe.settings;
+    // A reader writes nothing unless asked (docs/DESIGN.md §9): the recipe's node cache is
+    // read if its folder exists, never created, and saved only with "cache_write": "yes".
+    cache_write_ = recipe.cache_write;
+    if (!cache_write_ && !settings_.cache_dir.empty() && !fs::is_directory(settings_.cache_dir, ec))
+      settings_.cache_dir.clear();
     const auto spaces = spectralize::ColourSpaces::load(settings_.config);
     if (!settings_.colorspace.empty()) settings_.colorspace = spaces.resolve(settings_.colorspace);
     auto log = [](int, const std::string&) {};  // the plugin has no console: errors only
@@ -154,7 +149,10 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
     // Scanlines only: a reader presents the image; tiles are the writer's business.
     m_spec.tile_width = m_spec.tile_height = m_spec.tile_depth = 0;
   } catch (const std::exception& e) {
-    errorfmt("{}", e.what());
+    // A loop or an over-deep chain met further in is reported whole, as its first recipe
+    // says it, rather than wrapped once per level.
+    const std::string& chain = spectralize::RecipeChainLink::chain_failure();
+    errorfmt("{}", chain.empty() ? std::string(e.what()) : chain);
     conversion_.reset();
     to_rgb_.reset();
     source_.reset();
@@ -165,7 +163,7 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
 }
 
 bool SpectralInput::close() {
-  if (conversion_) conversion_->finish([](int, const std::string&) {});
+  if (conversion_) conversion_->finish([](int, const std::string&) {}, cache_write_);
   conversion_.reset();
   to_rgb_.reset();
   source_.reset();

@@ -6,7 +6,12 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <sys/stat.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,6 +31,7 @@
 #include "io/shard.h"
 #include "io/table_pool.h"
 #include "py_arrays.h"
+#include "py_interrupt.h"
 #include "py_options.h"
 
 namespace py = pybind11;
@@ -99,12 +105,29 @@ std::string path_text(const py::handle& v, const char* function, const char* nam
                        py::str(py::type::of(v).attr("__name__")).cast<std::string>());
 }
 
+// The OCIO config a call uses, as it is now: the file (config=, else $OCIO as set at this call,
+// else the shipped one) and its identity on disk (device, inode, size, modification time), so
+// that an edited or replaced config, or a changed $OCIO, is loaded again.
+std::string config_identity_now(const Settings& s) {
+  std::string path = s.config;
+  if (path.empty())
+    if (const char* env = std::getenv("OCIO"); env && *env) path = env;
+  if (path.empty()) return "shipped";
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return path;
+  return path + " " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino) + " " +
+         std::to_string(st.st_size) + " " + std::to_string(st.st_mtim.tv_sec) + "." +
+         std::to_string(st.st_mtim.tv_nsec);
+}
+
 // The colour setup for these settings, made once per distinct settings (config, colour space
-// and table); ValueError for an unknown or data colour space or a bad config.
+// and table); ValueError for an unknown or data colour space or a bad config. The key holds
+// every setting of the schema as given and the config's identity now, so no option of a call
+// is ever answered by a setup made for other options.
 ColourArrays& colour_arrays(const Settings& s, Messages& messages) {
-  std::string key = s.config + "\n" + std::to_string(s.threads);
-  for (const auto& [k, v] : describe_settings(s, kImage)) key += "\n" + k + "=" + v;
-  key += "\nmode=" + std::string(to_string(s.mode));
+  std::string key = config_identity_now(s);
+  for (const SettingSpec& spec : settings_schema())
+    key += "\n" + std::string(spec.key) + "=" + spec.format(s);
   State& st = state();
   std::lock_guard<std::mutex> lock(st.mutex);
   auto it = st.arrays.find(key);
@@ -137,27 +160,59 @@ py::array_t<float> output_array(const py::object& given, const std::vector<py::s
   return out;
 }
 
+// Colours per piece of spectra()'s work: Ctrl-C is heard between pieces. The first piece is
+// small; each next one is sized from the time the last took, ~50 ms (direct solves of 471 bands
+// take ~1000 times longer per colour than table lookups of 81).
+constexpr std::size_t kFirstPiece = 1024, kLargestPiece = 1u << 20;
+
 // spectralize.spectra(rgb, out=None, **options)
 py::tuple spectra(const py::object& rgb, const py::object& out_given, const py::kwargs& options) {
   const Settings settings = read_options(options, kSpectraScope);
-  const FloatArray in = read_float_array(rgb, "spectra(): rgb", 3);
+  FloatArray in = read_float_array(rgb, "spectra(): rgb", 3);
   Messages messages;
   ColourArrays& arrays = colour_arrays(settings, messages);
   const std::size_t bands = arrays.bands();
   py::array_t<float> out = output_array(out_given, in.shape, bands);
+  // An `out` that shares memory with `rgb` (any overlap, any strides) would be overwritten
+  // while it is read: the colours are copied first, so the result is the same as without.
+  if (may_share_memory(in.array, out)) {
+    py::array_t<float> copy(static_cast<py::ssize_t>(in.array.size()));
+    std::memcpy(copy.mutable_data(), in.data,
+                sizeof(float) * static_cast<std::size_t>(in.array.size()));
+    in.array = copy;
+    in.data = copy.data();
+  }
   float* o = out.mutable_data();
   PixelCounts counts;
   std::vector<std::string> save_warnings;
-  {
-    py::gil_scoped_release release;
+  const auto work = [&](const StopFlag* stop) {
     {
       std::shared_lock<std::shared_mutex> lookups(state().tables);
-      counts = arrays.spectra(in.data, in.rows, o);
+      std::size_t piece = stop ? kFirstPiece : in.rows;
+      for (std::size_t b = 0; b < in.rows;) {
+        if (stop && *stop) return;
+        const std::size_t n = std::min(piece, in.rows - b);
+        const auto t0 = std::chrono::steady_clock::now();
+        counts.add(arrays.spectra(in.data + b * 3, n, o + b * bands));
+        const double took =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        piece = std::clamp<std::size_t>(
+            took > 0 ? static_cast<std::size_t>(static_cast<double>(n) * 0.05 / took) : 2 * n, 256,
+            std::min(kLargestPiece, 2 * n));
+        b += n;
+      }
     }
     if (!arrays.settings().cache_dir.empty()) {
       std::unique_lock<std::shared_mutex> saving(state().tables);
       save_warnings = state().pool.save();  // only the tables that grew
     }
+  };
+  if (in.rows <= kFirstPiece) {
+    py::gil_scoped_release release;  // one piece: done before a Ctrl-C would be noticed
+    work(nullptr);
+  } else if (!run_interruptibly([&](const StopFlag& stop) { work(&stop); })) {
+    // KeyboardInterrupt: nothing is returned (`out`, if given, holds a part of the result).
+    throw py::error_already_set();
   }
   const WavelengthGrid& grid = arrays.settings().spectral.grid;
   py::array_t<double> wavelengths(static_cast<py::ssize_t>(grid.size()));
@@ -177,12 +232,9 @@ py::array_t<float> to_rgb(const py::object& values, const py::object& wavelength
     value_error(kToRgbScope, "give colorspace or display, not both");
   if (!settings.view.empty() && settings.display.empty())
     value_error(kToRgbScope, "view needs display");
-  const FloatArray w = read_float_array(wavelengths, "to_rgb(): wavelengths", 0);
-  if (w.shape.size() != 1)
-    throw py::value_error("to_rgb(): wavelengths: expected a 1-D array, got " +
-                          std::to_string(w.shape.size()) + " axes");
-  const FloatArray in = read_float_array(values, "to_rgb(): values", w.last);
-  const std::vector<double> nm(w.data, w.data + w.last);
+  const std::vector<double> nm = read_wavelength_array(wavelengths, "to_rgb(): wavelengths");
+  if (nm.empty()) throw py::value_error("to_rgb(): wavelengths: an empty array");
+  const FloatArray in = read_float_array(values, "to_rgb(): values", nm.size());
   const bool emissive = settings.mode != ModeChoice::reflectance;
   py::array_t<float> out = new_float_array(in.shape, 3);
   float* o = out.mutable_data();
@@ -199,12 +251,14 @@ py::array_t<float> to_rgb(const py::object& values, const py::object& wavelength
   return out;
 }
 
-// Checks for Ctrl-C between strips: KeyboardInterrupt unwinds the job, whose temporary file
+// Thrown through a job when its caller was interrupted: the job unwinds, its temporary file
 // is removed.
-ProgressFn interruptible() {
-  return [](std::uint64_t, std::uint64_t) {
-    py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+struct Stopped : std::exception {};
+
+// Between strips: stops the job once Ctrl-C has been seen (run_interruptibly).
+ProgressFn stops_on(const StopFlag& stop) {
+  return [&stop](std::uint64_t, std::uint64_t) {
+    if (stop) throw Stopped();
   };
 }
 
@@ -224,23 +278,27 @@ py::object convert(const py::object& input, const py::object& output, const std:
   std::vector<std::string> given;
   Settings settings = read_options(options, scope, &given);
   try {
-    const bool format_given = std::find(given.begin(), given.end(), "format") != given.end();
-    settings = rgb ? checked_to_rgb_settings(settings, out, format_given, kKeywordNames)
+    const auto is_given = [&](const char* key) {
+      return std::find(given.begin(), given.end(), key) != given.end();
+    };
+    settings = rgb ? checked_to_rgb_settings(settings, out, is_given("format"),
+                                             is_given("compression"), kKeywordNames)
                    : checked_image_settings(settings, out, kKeywordNames);
   } catch (const Error& e) {
     value_error(scope, e.what());
   }
   Messages messages;
   std::string report, failure;
-  {
-    py::gil_scoped_release release;
+  const bool finished = run_interruptibly([&](const StopFlag& stop) {
     try {
-      report = rgb ? report_json(run_to_rgb_job(in, out, settings, interruptible(), messages.log()))
-                   : report_json(run_image_job(in, out, settings, interruptible(), messages.log()));
+      report = rgb ? report_json(run_to_rgb_job(in, out, settings, stops_on(stop), messages.log()))
+                   : report_json(run_image_job(in, out, settings, stops_on(stop), messages.log()));
     } catch (const Error& e) {
       failure = e.what();
     }
-  }
+  });
+  // KeyboardInterrupt: the job stopped at its next strip and left nothing behind.
+  if (!finished) throw py::error_already_set();
   messages.emit();
   if (!failure.empty()) os_error(failure);
   return json_object(report);
@@ -280,32 +338,51 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   Messages messages;
   IngestSummary summary;
   std::string failure;
-  {
-    py::gil_scoped_release release;
+  bool ran = false;
+  const bool finished = run_interruptibly([&](const StopFlag& stop) {
     try {
-      summary = run_ingest(plan_ingest(request), nullptr, messages.log());
+      const IngestPlan plan = plan_ingest(request);
+      ran = true;
+      summary = run_ingest(plan, nullptr, messages.log(), &stop);
     } catch (const Error& e) {
       failure = e.what();
     }
+  });
+  // The result of what was done, from memory (the manifest may be a stream: never read back).
+  const auto result = [&] {
+    py::dict d = json_object(ingest_summary_json(summary));
+    py::list failures;
+    for (const std::string& record : summary.failures) failures.append(json_object(record));
+    d["failures"] = failures;
+    return d;
+  };
+  if (!finished) {
+    // KeyboardInterrupt, carrying what was done: the batch stopped at its next strip, and its
+    // manifest records the files done (a rerun does the rest).
+    if (ran && failure.empty()) {
+      PyObject *type = nullptr, *value = nullptr, *trace = nullptr;
+      PyErr_Fetch(&type, &value, &trace);
+      PyErr_NormalizeException(&type, &value, &trace);
+      try {
+        py::handle e(value);
+        e.attr("summary") = result();
+        e.attr("args") = py::make_tuple(
+            "ingest(): interrupted: " + std::to_string(summary.files()) + " files done, " +
+            std::to_string(summary.not_done) + " not done; manifest '" + summary.manifest + "'");
+      } catch (...) {
+        PyErr_Restore(type, value, trace);
+        throw;
+      }
+      PyErr_Restore(type, value, trace);
+    }
+    throw py::error_already_set();
   }
   messages.emit();
   if (!failure.empty()) os_error(failure);
-  py::dict d = json_object(ingest_summary_json(summary));
-  // The failed files' records, from the manifest just written (stdout manifests are not read).
-  py::list failures;
-  if (summary.failed > 0) {
-    py::object loads = py::module_::import("json").attr("loads");
-    py::object file = py::module_::import("builtins").attr("open")(summary.manifest, "r");
-    for (const py::handle& line : file) {
-      py::object record = loads(line);
-      if (record.contains("status") && py::str(record["status"]).cast<std::string>() == "failed")
-        failures.append(record);
-    }
-    file.attr("close")();
+  py::dict d = result();
+  if (summary.failed > 0)
     warn("ingest(): " + std::to_string(summary.failed) + " of " + std::to_string(summary.files()) +
          " files failed (see 'failures' and the manifest '" + summary.manifest + "')");
-  }
-  d["failures"] = failures;
   return d;
 }
 
@@ -403,7 +480,9 @@ PYBIND11_MODULE(spectralize, m) {
          "'reflectance': 0 <= values <= 1). Out-of-gamut colours are mapped and counted in a\n"
          "SpectralizeWarning; NaN or infinite colours raise ValueError. Runs without the GIL\n"
          "on all cores (threads=...). out: a float32 C-ordered array of the result's shape to\n"
-         "fill and return instead of a new one (saves the allocation in loops).\n"
+         "fill and return instead of a new one (saves the allocation in loops); it may share\n"
+         "memory with rgb (the colours are then copied first: the same numbers). Ctrl-C stops\n"
+         "the call within a second (KeyboardInterrupt; out then holds a part of the result).\n"
          "Cost: O(colours x N), plus node solves on first use.\n\n"
          "Options:\n" +
          options_doc(kSpectraScope))
@@ -411,7 +490,8 @@ PYBIND11_MODULE(spectralize, m) {
   m.def("to_rgb", &to_rgb, py::arg("values"), py::arg("wavelengths"),
         ("to_rgb(values, wavelengths, **options) -> rgb\n\n"
          "Integrates spectra (..., N) sampled at wavelengths (N,) nm (strictly increasing,\n"
-         "any spacing) to RGB (..., 3) float32 by the reference integration: emission with the\n"
+         "any spacing, used as float64) to RGB (..., 3) float32 by the reference integration: "
+         "emission with the\n"
          "observer; reflectance (mode='reflectance') under the illuminant, white balanced\n"
          "(reflected='as-lit': the reflected light itself). Cost: O(spectra x N).\n\n"
          "Options:\n" +
@@ -423,8 +503,8 @@ PYBIND11_MODULE(spectralize, m) {
          "to='spectral': an RGB image (anything OpenImageIO reads) to a spectral OpenEXR;\n"
          "to='rgb': a spectral OpenEXR (any writer's) back to RGB. Streams in bounded memory;\n"
          "the output appears only when complete; the input is never overwritten. Returns the\n"
-         "report the CLI writes with --report. Ctrl-C stops it (KeyboardInterrupt) leaving\n"
-         "nothing behind. Cost: O(pixels x N).\n\n"
+         "report the CLI writes with --report. Ctrl-C stops it within a second\n"
+         "(KeyboardInterrupt) leaving nothing behind. Cost: O(pixels x N).\n\n"
          "Options (to='spectral'):\n" +
          options_doc(kConvertScope) + "\nOptions (to='rgb'):\n" + options_doc(kConvertRgbScope))
             .c_str());
@@ -437,7 +517,9 @@ PYBIND11_MODULE(spectralize, m) {
          "spectral OpenEXR files under the folder output, as `spectralize ingest` does: a\n"
          "decision per file, up-to-date outputs skipped, a JSON Lines manifest. Returns the\n"
          "counts and the failed files' records ('failures'); a file that fails does not stop\n"
-         "the others and does not raise (a SpectralizeWarning counts them). Cost: the\n"
+         "the others and does not raise (a SpectralizeWarning counts them). Ctrl-C stops it\n"
+         "within a second: KeyboardInterrupt whose .summary is this result for the files done\n"
+         "(with 'interrupted' and 'not_done'), and the manifest records them. Cost: the\n"
          "conversions.\n\n"
          "Options:\n" +
          options_doc(kIngestScope))

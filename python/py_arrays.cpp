@@ -1,6 +1,8 @@
 #include "py_arrays.h"
 
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 namespace py = pybind11;
 
@@ -60,6 +62,43 @@ FloatArray read_float_array(const py::handle& object, const std::string& name, s
         " NaN or infinite (or beyond float32's range), the first at " + index_text(first, a.shape) +
         "; replace them first (e.g. numpy.nan_to_num)");
   return a;
+}
+
+std::vector<double> read_wavelength_array(const py::handle& object, const std::string& name) {
+  py::array any = py::module_::import("numpy").attr("asarray")(object);
+  const char kind = any.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(name + ": dtype " + py::str(any.dtype()).cast<std::string>() +
+                         " is not a number; give the wavelengths in nm");
+  if (any.ndim() != 1)
+    throw py::value_error(name + ": expected a 1-D array, got " + std::to_string(any.ndim()) +
+                          " axes");
+  // float64 whatever was given: [500, 500.00001] stays strictly increasing.
+  auto nm = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(any);
+  if (!nm) throw py::error_already_set();
+  std::vector<double> out(nm.data(), nm.data() + nm.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(out[i]))
+      throw py::value_error(name + ": value " + std::to_string(i) + " is NaN or infinite");
+  return out;
+}
+
+bool may_share_memory(const py::array& a, const py::array& b) {
+  // The byte range each array's elements span, whatever the sign of its strides.
+  auto span = [](const py::array& x) {
+    auto lo = reinterpret_cast<std::intptr_t>(x.data());
+    auto hi = lo;
+    for (py::ssize_t d = 0; d < x.ndim(); ++d) {
+      if (x.shape(d) == 0) return std::pair<std::intptr_t, std::intptr_t>{0, 0};
+      const auto reach = static_cast<std::intptr_t>(x.strides(d)) * (x.shape(d) - 1);
+      (reach < 0 ? lo : hi) += reach;
+    }
+    return std::pair<std::intptr_t, std::intptr_t>{lo,
+                                                   hi + static_cast<std::intptr_t>(x.itemsize())};
+  };
+  const auto [a0, a1] = span(a);
+  const auto [b0, b1] = span(b);
+  return a0 < a1 && b0 < b1 && a0 < b1 && b0 < a1;
 }
 
 py::array_t<float> new_float_array(const std::vector<py::ssize_t>& shape, std::size_t last) {

@@ -28,6 +28,15 @@ struct FloatArray {
 FloatArray read_float_array(const pybind11::handle& object, const std::string& name,
                             std::size_t last);
 
+/// Reads a 1-D array of wavelengths in nm (any integer or floating dtype) as float64, every
+/// value kept as given (never rounded to float32); TypeError for other dtypes, ValueError for
+/// another number of axes or non-finite values, naming `name`. Cost: O(size).
+std::vector<double> read_wavelength_array(const pybind11::handle& object, const std::string& name);
+
+/// True when the memory spanned by `a` and by `b` overlaps (numpy.may_share_memory's bounds
+/// test, over any strides): writing one may change the other. Cost: O(axes).
+bool may_share_memory(const pybind11::array& a, const pybind11::array& b);
+
 /// A new float32 array of `shape` whose last axis is replaced by `last`. Cost: O(size).
 pybind11::array_t<float> new_float_array(const std::vector<pybind11::ssize_t>& shape,
                                          std::size_t last);

@@ -28,15 +28,32 @@ std::string valid_keys(const OptionScope& scope) {
   return keys;
 }
 
-// A value as the schema's text: str and os.PathLike as they are, integers in decimal, floats
-// by repr (shortest round trip). bool is refused: no setting is a yes/no switch.
+// True for NumPy's scalar types of `kind` ("bool_", "integer", "floating"), without importing
+// NumPy when it is not loaded (then no value can be one).
+bool is_numpy(const py::handle& v, const char* kind) {
+  py::object modules = py::module_::import("sys").attr("modules");
+  if (!modules.contains("numpy")) return false;
+  return py::isinstance(v, modules["numpy"].attr(kind));
+}
+
+// A value as the schema's text: str and os.PathLike as they are, integers in decimal (Python's
+// and NumPy's: anything with __index__), floats by their shortest text (Python's repr of the
+// value; NumPy's own for its float32/float16, the digits it shows). bool is refused: no
+// setting is a yes/no switch.
 std::string option_text(const OptionScope& scope, const std::string& key, const py::handle& v) {
-  if (py::isinstance<py::bool_>(v))
+  if (py::isinstance<py::bool_>(v) || is_numpy(v, "bool_"))
     throw py::type_error(scope.function + "(): " + key +
                          ": expected a string or a number, got a bool");
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  if (py::isinstance<py::int_>(v)) return py::str(v).cast<std::string>();
-  if (py::isinstance<py::float_>(v)) return py::repr(v).cast<std::string>();
+  if (py::isinstance<py::int_>(v) || is_numpy(v, "integer")) {
+    PyObject* whole = PyNumber_Index(v.ptr());
+    if (!whole) throw py::error_already_set();
+    return py::str(py::reinterpret_steal<py::object>(whole)).cast<std::string>();
+  }
+  // float subclasses (numpy.float64) by the value, not by their own repr ("np.float64(0.5)").
+  if (py::isinstance<py::float_>(v))
+    return py::repr(py::float_(PyFloat_AsDouble(v.ptr()))).cast<std::string>();
+  if (is_numpy(v, "floating")) return py::str(v).cast<std::string>();
   if (py::hasattr(v, "__fspath__")) {
     py::object path = py::module_::import("os").attr("fspath")(v);
     if (py::isinstance<py::str>(path)) return path.cast<std::string>();

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "io/input_interpretation.h"
 #include "io/render_table.h"
+#include "io/safe_output.h"
 #include "io/spectral_image_layout.h"
 
 namespace spectralize {
@@ -56,6 +57,7 @@ RgbCounts rgb_of_spectra(const float* spectra, std::size_t n,
   OIIO::parallel_for_chunked(
       0, static_cast<int64_t>(n), 4096,
       [&](int64_t begin, int64_t end) {
+        ensure_signal_stack();  // OIIO's pool threads too
         const auto b = static_cast<std::size_t>(begin);
         const RgbCounts c =
             integrate.convert(spectra + b * bands, bands, static_cast<std::size_t>(end - begin),
@@ -63,6 +65,7 @@ RgbCounts rgb_of_spectra(const float* spectra, std::size_t n,
         std::lock_guard<std::mutex> lock(mutex);
         total.invalid += c.invalid;
         total.half_overflow += c.half_overflow;
+        total.float_overflow += c.float_overflow;
         total.clipped += c.clipped;
       },
       OIIO::paropt(s.threads));

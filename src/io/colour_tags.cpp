@@ -1,6 +1,7 @@
 #include "io/colour_tags.h"
 
 #include "io/icc_profile.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
@@ -25,20 +26,27 @@ std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpa
   const auto xy = data ? std::nullopt : spaces.chromaticities(space);
   if (xy) spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy->data());
   std::vector<std::string> warnings;
-  if (data || format == "openexr") return warnings;
-  const std::string where = "'" + clip(file, 200) + "': ";
-  if (format == "hdr") {
+  // Where the format says the space: the output table's slot for it (docs/DESIGN.md §9).
+  const OutputFormat* f = output_format_named(format);
+  const ColourSlot slot = f ? f->colour : ColourSlot::srgb;
+  if (data || slot == ColourSlot::attributes) return warnings;
+  // Appended, not "'" + clip(...): GCC 12 sees a bogus overflow in operator+(const char*, &&).
+  std::string where(1, '\'');
+  where.append(clip(file, 200)).append("': ");
+  if (slot == ColourSlot::linear_rec709) {
     // RGBE says only "linear"; readers take Rec.709 primaries and a D65 white.
     if (id != "lin_rec709_scene")
-      warnings.push_back(where + "Radiance HDR has no slot for the colour space '" + space +
+      warnings.push_back(where + std::string(f->label) + " has no slot for the colour space '" +
+                         space +
                          "'; readers will assume linear Rec.709 (sRGB primaries): write "
                          "OpenEXR, or --colorspace a linear Rec.709 space");
     return warnings;
   }
-  if (format != "tiff" && format != "png" && format != "jpeg") {
+  if (slot != ColourSlot::icc_profile) {
     if (id == "srgb_rec709_scene") return warnings;  // what readers assume anyway
-    warnings.push_back(where + "the " + format + " format has no slot for the colour space '" +
-                       space + "'; readers will assume sRGB: write OpenEXR, TIFF, PNG or JPEG");
+    warnings.push_back(where + "the " + std::string(f ? f->label : format) +
+                       " format has no slot for the colour space '" + space +
+                       "'; readers will assume sRGB: write OpenEXR, TIFF, PNG or JPEG");
     return warnings;
   }
   const auto transfer = spaces.transfer(space);

@@ -170,7 +170,7 @@ void ImageConversion::convert(const float* in, std::size_t n, float* out) {
   parts_->converter->convert(in, n, out);
 }
 
-const ImageReport& ImageConversion::finish(const LogFn& log) {
+const ImageReport& ImageConversion::finish(const LogFn& log, bool save_cache) {
   Parts& p = *parts_;
   report_.counts = p.converter->counts();
   report_.cache = p.table->stats();
@@ -180,7 +180,7 @@ const ImageReport& ImageConversion::finish(const LogFn& log) {
     report_.warnings.push_back(w);
     log(0, w);
   }
-  if (!p.shared && !report_.cache_file.empty() && p.table->dirty()) {
+  if (save_cache && !p.shared && !report_.cache_file.empty() && p.table->dirty()) {
     const std::string why = save_table_cache(*p.table, report_.cache_file, p.cache_key);
     if (!why.empty()) {
       const std::string message = "cache '" + report_.cache_file + "' not saved: " + why;

@@ -71,8 +71,9 @@ class ImageConversion {
   /// The report so far: setup fields, and after finish() the counts. Cost: O(1).
   const ImageReport& report() const { return report_; }
   /// Fills the counts and cache statistics into the report and saves the node cache if it grew
-  /// (a failure to save is a warning). Cost: O(nodes) when saving.
-  const ImageReport& finish(const LogFn& log);
+  /// and `save_cache` (a failure to save is a warning; a reader that was not asked to write
+  /// passes false). Cost: O(nodes) when saving.
+  const ImageReport& finish(const LogFn& log, bool save_cache = true);
 
  private:
   void load_cache(const LogFn& log, const std::function<void(const std::string&)>& warn);

@@ -6,27 +6,33 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
 
 void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc type,
                       std::span<const std::string> inputs) {
+  // What the format holds, before anything is written (docs/DESIGN.md §9).
+  OIIO::ImageSpec spec = image.spec();
+  OutputRequest want;
+  want.samples = sample_type_name(type);
+  want.channels = spec.nchannels;
+  want.alpha = spec.alpha_channel >= 0;
+  const OutputFormat& f = check_output(path, want, "");
   auto writer = OIIO::ImageOutput::create(path);
   if (!writer) {
     (void)OIIO::geterror();
     throw Error(quote(path, 200) + ": OpenImageIO cannot write this file type");
   }
   AtomicOutput file(path, WriteRules::named("the image"), inputs);
-  OIIO::ImageSpec spec = image.spec();
   spec.set_format(type);
+  apply_compression(spec, f, "");
   // Through the checked proxy for the formats whose writers are known to use it correctly
   // (OIIO 2.4's TIFF writer through a proxy leaves an unreadable file), else by the
   // temporary's name; either way the file is read back before it is moved into place.
   const std::string format = writer->format_name();
-  const bool proxy_ok =
-      format == "openexr" || format == "png" || format == "jpeg" || format == "hdr";
-  const bool proxied = proxy_ok && writer->supports("ioproxy") && writer->set_ioproxy(file.proxy());
+  const bool proxied = f.proxy && writer->set_ioproxy(file.proxy());
   if (!writer->open(proxied ? path : file.path(), spec) || !image.write(writer.get()) ||
       !writer->close()) {
     const int err = errno;
@@ -49,7 +55,8 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
 }
 
 bool writes_through_proxy(const std::string& format) {
-  return format == "openexr" || format == "png" || format == "jpeg" || format == "hdr";
+  const OutputFormat* f = output_format_named(format);
+  return f && f->proxy;
 }
 
 std::string find_font() {

@@ -2,13 +2,20 @@
 
 #include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include "core/error.h"
+#include "io/exr_scanline_reader.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
 
 namespace {
+
+// What OpenEXR may keep of decoded input chunks (at least one chunk, ~2x its decoded size):
+// 16 MB, e.g. two 16-row zip chunks of 8192 float RGB pixels, or one 256-row DWAB chunk of any
+// width.
+constexpr std::size_t kChunkBudget = 16u << 20;
 
 std::string quote(const std::string& path) {
   return "'" + clip(path, 200) + "'";
@@ -18,6 +25,9 @@ std::string quote(const std::string& path) {
 
 ImageReader::ImageReader(const std::string& path, int output_channels, bool straight_alpha)
     : path_(path) {
+  // Opening may nest (a recipe's source is opened by the plugin on this thread): if that ever
+  // overflows the stack, the crash handler still needs a stack to run on.
+  ensure_signal_stack();
   // Refused before OIIO sees it: a FIFO or a device would block or never end.
   check_readable_file(path, "input");
   OIIO::ImageSpec config;
@@ -56,6 +66,18 @@ ImageReader::ImageReader(const std::string& path, int output_channels, bool stra
   if (!in_->seek_subimage(0, 0)) throw Error(where + "cannot read: " + clip(in_->geterror(), 300));
   (void)OIIO::geterror();  // the failed seeks above leave messages behind
   (void)in_->geterror();
+  format_ = in_->format_name();
+  // Scanline OpenEXR: OpenEXR itself, keeping at most kChunkBudget of decoded chunks whatever
+  // the compression and the cores (docs/DESIGN.md §10); OIIO's reader is closed so that its
+  // own chunk buffers go too.
+  if (format_ == "openexr" && spec_.tile_width == 0 && !spec_.deep) {
+    const int workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    exr_ = ExrScanlineReader::open(path, spec_.channelnames, kChunkBudget, workers);
+    if (exr_) {
+      in_->close();
+      in_.reset();
+    }
+  }
 }
 
 ImageReader::~ImageReader() {
@@ -63,7 +85,7 @@ ImageReader::~ImageReader() {
 }
 
 std::string ImageReader::format_name() const {
-  return in_->format_name();
+  return format_;
 }
 
 int ImageReader::aligned_rows(int wanted) const {
@@ -78,6 +100,10 @@ void ImageReader::read_rows(int y0, int y1, float* out) {
     throw Error(quote(path_) + ": cannot read rows " + std::to_string(y0) + ".." +
                 std::to_string(y1 - 1) + ": " + clip(why, 300));
   };
+  if (exr_) {
+    exr_->read(y0, y1, out);
+    return;
+  }
   if (tile_height() == 0) {
     if (!in_->read_scanlines(0, 0, spec_.y + y0, spec_.y + y1, 0, 0, nch, OIIO::TypeFloat, out))
       fail(in_->geterror());

@@ -11,6 +11,8 @@
 
 namespace spectralize {
 
+class ExrScanlineReader;
+
 /// The largest image spectralize opens: width or height, pixels, channels. Larger declared
 /// sizes are refused at open, before anything is allocated for them.
 struct ImageLimits {
@@ -53,8 +55,10 @@ class ImageReader {
   int aligned_rows(int wanted) const;
 
  private:
-  std::string path_;
+  std::string path_, format_;
   std::unique_ptr<OIIO::ImageInput> in_;
+  // Scanline OpenEXR: read by OpenEXR with a bounded number of decoded chunks (in_ closed).
+  std::unique_ptr<ExrScanlineReader> exr_;
   OIIO::ImageSpec spec_;
   int mip_levels_ = 1, subimages_ = 1;
   bool straight_ = false;

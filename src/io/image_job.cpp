@@ -20,6 +20,7 @@
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
 #include "io/image_input.h"
+#include "io/output_formats.h"
 #include "io/output_metadata.h"
 #include "io/rgb_from_spectral.h"
 #include "io/safe_output.h"
@@ -71,8 +72,6 @@ class Sink {
     }
     writer_ = OIIO::ImageOutput::create(format);
     if (!writer_) throw Error("OpenImageIO has no " + format + " writer: " + OIIO::geterror());
-    if (tiled_ && !writer_->supports("tiles"))
-      throw Error("'" + output + "': " + format + " files cannot be tiled (leave out --tile)");
     // Every byte goes through the checked proxy where the writer uses one correctly, so a full
     // disk or a file-size limit is an error here, not a truncated file at the destination.
     const bool proxied = writes_through_proxy(format) && writer_->set_ioproxy(file.proxy());
@@ -159,15 +158,17 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const std::size_t sample = sink.type().size();
   const int strip =
       strip_rows(spec.height, sink.block_rows(), width * out_nch * sample, worker_count(threads));
-  // The converter writes float; HALF strips are filled a few rows at a time through a float
-  // scratch buffer of ~8 MB (so the strip is never held as float too).
+  // Rows are converted in pieces of ~0.1 s (at most ~8 MB of float samples; the first piece is
+  // one row, then sized from the time the last one took), and progress is told after each: a
+  // caller that stops the job is heard within one piece, whatever the method and grid
+  // (docs/DESIGN.md §10). The converter writes float; HALF strips are filled through a float
+  // scratch buffer of that size (so the strip is never held as float too).
   const bool narrow = sink.type() != OIIO::TypeFloat;
-  const int sub =
-      narrow
-          ? std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip)
-          : strip;
+  const int max_sub =
+      std::clamp(static_cast<int>((8u << 20) / (width * out_nch * sizeof(float))), 1, strip);
+  int sub = 1;
   std::vector<float> inbuf(width * strip * nch);
-  std::vector<float> scratch(narrow ? width * sub * out_nch : 0);
+  std::vector<float> scratch(narrow ? width * max_sub * out_nch : 0);
   std::vector<unsigned char> outbufs[2] = {
       std::vector<unsigned char>(width * strip * out_nch * sample),
       std::vector<unsigned char>(width * strip * out_nch * sample)};
@@ -178,18 +179,23 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     unsigned char* out = outbufs[k % 2].data();
     auto t0 = Clock::now();
     in.read_rows(y0, y1, inbuf.data());
-    for (int r0 = y0; r0 < y1; r0 += sub) {
-      const int r1 = std::min(y1, r0 + sub);
+    for (int r0 = y0, r1 = y0; r0 < y1; r0 = r1) {
+      r1 = std::min(y1, r0 + sub);
+      const auto piece_start = Clock::now();
       const std::size_t n = width * static_cast<std::size_t>(r1 - r0);
       const float* src = inbuf.data() + width * static_cast<std::size_t>(r0 - y0) * nch;
       unsigned char* dst = out + width * static_cast<std::size_t>(r0 - y0) * out_nch * sample;
       if (!narrow) {
         convert(src, n, reinterpret_cast<float*>(dst));
-        continue;
+      } else {
+        convert(src, n, scratch.data());
+        OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
+                                   static_cast<int>(n * out_nch));
       }
-      convert(src, n, scratch.data());
-      OIIO::convert_pixel_values(OIIO::TypeFloat, scratch.data(), sink.type(), dst,
-                                 static_cast<int>(n * out_nch));
+      const double took = seconds_since(piece_start);
+      sub = std::clamp(took > 0 ? static_cast<int>(sub * 0.1 / took) : max_sub, 1,
+                       std::min(max_sub, 2 * sub));
+      if (progress && r1 < y1) progress(width * r1, width * spec.height);
     }
     auto t1 = Clock::now();
     t_convert += std::chrono::duration<double>(t1 - t0).count();
@@ -210,10 +216,16 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   file.check();
   auto back = OIIO::ImageInput::create(format);
   OIIO::ImageSpec back_spec;
-  if (!back || !back->open(file.path(), back_spec) || back_spec.width != ospec.width ||
-      back_spec.height != ospec.height || back_spec.nchannels != ospec.nchannels)
+  if (!back || !back->open(file.path(), back_spec))
     throw Error("'" + output + "': the written file does not read back: " +
                 (back ? back->geterror() : OIIO::geterror()));
+  if (back_spec.width != ospec.width || back_spec.height != ospec.height ||
+      back_spec.nchannels != ospec.nchannels)
+    throw Error("'" + output + "': the written file reads back as " +
+                std::to_string(back_spec.width) + "x" + std::to_string(back_spec.height) + ", " +
+                std::to_string(back_spec.nchannels) + " channels, not the " +
+                std::to_string(ospec.width) + "x" + std::to_string(ospec.height) + ", " +
+                std::to_string(ospec.nchannels) + " channels written");
   back->close();
   t_write += seconds_since(t_close);
   return {t_convert, t_write};
@@ -237,6 +249,17 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   context.record_in_header = true;
   ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
                              settings, log, context);
+  {
+    // What OpenEXR must hold, now that the channels are known (docs/DESIGN.md §9).
+    const OIIO::ImageSpec& o = conversion.output_spec();
+    OutputRequest want;
+    want.samples = sample_type_name(o.format);
+    want.compression = settings.compression;
+    want.tile_width = settings.tile_width;
+    want.tile_height = settings.tile_height;
+    want.channels = o.nchannels;
+    check_output(output, want);
+  }
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +
@@ -283,19 +306,18 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   ImageReader reader(input, 4);
   const OIIO::ImageSpec& spec = reader.spec();
   const SpectralLayoutInfo layout = analyse_spectral_layout(spec, input);
-  // Any format OIIO writes, by the output's extension.
-  {
-    auto probe = OIIO::ImageOutput::create(output);
-    if (!probe) {
-      (void)OIIO::geterror();
-      throw Error("'" + output + "': OpenImageIO cannot write this file type");
-    }
-    rep.output_format = probe->format_name();
-  }
+  // What the output's format holds, checked before any work (docs/DESIGN.md §9): the sample
+  // type, compression, tiles, and alpha if the file has it.
   const OIIO::TypeDesc type = rgb_sample_type(settings);
-  if (rep.output_format == "openexr" && settings.integer_bits != 0)
-    throw Error("'" + output + "': OpenEXR stores half or float samples, not uint" +
-                std::to_string(settings.integer_bits));
+  OutputRequest want;
+  want.samples = sample_type_name(type);
+  want.compression = settings.compression;
+  want.tile_width = settings.tile_width;
+  want.tile_height = settings.tile_height;
+  want.channels = layout.alpha >= 0 ? 4 : 3;
+  want.alpha = layout.alpha >= 0;
+  const OutputFormat& format = check_output(output, want);
+  rep.output_format = std::string(format.name);
   AtomicOutput file(output, WriteRules::named("the output"),
                     std::span<const std::string>(&input, 1));
   limit_threads(settings.threads);
@@ -332,6 +354,7 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
   OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
+  apply_compression(ospec, format, settings.compression);
   // The tags this format can hold (an ICC profile for TIFF, PNG, JPEG), or a warning.
   if (const std::string written = ospec.get_string_attribute("oiio:ColorSpace"); !written.empty())
     for (const std::string& w : tag_colour_space(ospec, spaces, written, rep.output_format, output))
@@ -354,12 +377,14 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
         OIIO::parallel_for_chunked(
             0, static_cast<int64_t>(n), 4096,
             [&](int64_t b, int64_t e) {
+              ensure_signal_stack();  // OIIO's pool threads too
               const RgbCounts c =
                   to_rgb.convert(src + b * in_nch, in_nch, static_cast<std::size_t>(e - b),
                                  dst + b * out_nch, type);
               std::lock_guard<std::mutex> lock(mutex);
               total.invalid += c.invalid;
               total.half_overflow += c.half_overflow;
+              total.float_overflow += c.float_overflow;
               total.clipped += c.clipped;
             },
             OIIO::paropt(settings.threads));
@@ -367,12 +392,17 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
       progress, settings.threads);
   rep.invalid_pixels = total.invalid;
   rep.half_overflow_pixels = total.half_overflow;
+  rep.float_overflow_pixels = total.float_overflow;
   if (total.invalid > 0)
     warn("'" + input + "': " + std::to_string(total.invalid) +
          " pixels have NaN or infinite samples, taken as 0");
   if (total.half_overflow > 0)
     warn("'" + output + "': " + std::to_string(total.half_overflow) +
          " pixels exceed HALF's range (65504) and were clamped; use --format float to keep them");
+  if (total.float_overflow > 0)
+    warn("'" + output + "': " + std::to_string(total.float_overflow) +
+         " pixels exceed float's range (3.4e38) and were clamped to it; no sample type holds "
+         "them (the spectra are brighter than float can integrate)");
   if (total.clipped > 0)
     warn("'" + output + "': " + std::to_string(total.clipped) +
          " pixels have values outside 0..1, clipped by the integer format");

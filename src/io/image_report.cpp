@@ -144,6 +144,7 @@ std::string report_json(const ToRgbReport& r, int indent) {
   j["pixels"] = r.pixels;
   j["invalid_pixels"] = r.invalid_pixels;
   j["half_overflow_pixels"] = r.half_overflow_pixels;
+  j["float_overflow_pixels"] = r.float_overflow_pixels;
   j["clipped_pixels"] = r.clipped_pixels;
   j["warnings"] = r.warnings;
   j["seconds"] = r.seconds;

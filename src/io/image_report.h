@@ -51,6 +51,7 @@ struct ToRgbReport {
   int mip_levels = 1, subimages = 1;
   Settings settings;
   std::uint64_t pixels = 0, invalid_pixels = 0, half_overflow_pixels = 0, clipped_pixels = 0;
+  std::uint64_t float_overflow_pixels = 0;  // float output: beyond float's range (clamped)
   std::vector<std::string> warnings;
   double seconds = 0;
 };

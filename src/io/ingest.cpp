@@ -181,6 +181,11 @@ std::vector<std::string> name_words(const std::string& stem) {
 
 namespace {
 
+// Thrown through a conversion when the batch is asked to stop.
+struct Interrupted : std::exception {
+  const char* what() const noexcept override { return "interrupted"; }
+};
+
 // What every file of a batch shares.
 struct Batch {
   const IngestPlan& plan;
@@ -189,8 +194,10 @@ struct Batch {
   int threads_per_job = 1;
   TablePool pool;
   std::atomic<std::uint64_t> stale{0};
-  std::mutex swept_mutex;
-  std::set<std::string> swept;  // output folders already cleared of stale temporaries
+  std::mutex swept_mutex{};
+  std::set<std::string> swept{};            // output folders already cleared of stale temporaries
+  const std::atomic<bool>* stop = nullptr;  // asked to stop (may be null)
+  bool stopping() const { return stop && stop->load(); }
 
   /// Removes, once per folder, the temporaries killed earlier runs left there (any file's:
   /// outputs, copies, manifests; a live writer's are locked and stay). Cost: one listing.
@@ -301,7 +308,12 @@ Json process(const IngestItem& item, Batch& batch) {
       if (!mode_reason.empty()) a["spectralize:modeReason"] = mode_reason;
       return a;
     };
-    const ImageReport rep = run_image_job(item.input, item.output, s, nullptr, batch.log, options);
+    // Between strips: a stop request abandons the conversion (its temporary is removed).
+    const ProgressFn check_stop = [&batch](std::uint64_t, std::uint64_t) {
+      if (batch.stopping()) throw Interrupted();
+    };
+    const ImageReport rep =
+        run_image_job(item.input, item.output, s, check_stop, batch.log, options);
     r["colorspace"] = rep.colorspace;
     r["colorspace_reason"] = rep.colorspace_reason;
     r["mode"] = std::string(to_string(rep.settings.spectral.mode));
@@ -312,6 +324,8 @@ Json process(const IngestItem& item, Batch& batch) {
     r["max_relative_xyz_error"] = rep.counts.max_error;
     if (!rep.warnings.empty()) r["warnings"] = rep.warnings;
     return finish("converted");
+  } catch (const Interrupted&) {
+    return Json();  // not done: no record, so a rerun does it
   } catch (const std::exception& e) {
     return finish("failed", e.what());
   }
@@ -319,8 +333,8 @@ Json process(const IngestItem& item, Batch& batch) {
 
 }  // namespace
 
-IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress,
-                         const LogFn& log) {
+IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress, const LogFn& log,
+                         const std::atomic<bool>* stop) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // the run's registry: what it reads, what it writes
   const auto t0 = Clock::now();
@@ -338,6 +352,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   plan.files.claim();
   Batch batch{plan, log, ColourSpaces::load(base.config), std::max(1, total_threads / jobs), {}, {},
               {},   {}};
+  batch.stop = stop;
   // The manifest's place is checked (and its temporary file made) before any work; a killed
   // earlier run's temporary manifest goes (unless the manifest is a stream).
   const fs::path manifest_path(plan.manifest);
@@ -355,9 +370,12 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   std::atomic<std::size_t> next{0};
   std::size_t done = 0;
   auto worker = [&] {
+    ensure_signal_stack();  // a crash on this thread still removes the batch's temporaries
     for (std::size_t i; (i = next.fetch_add(1)) < plan.items.size();) {
+      if (batch.stopping()) break;
       Json r = process(plan.items[i], batch);
       std::lock_guard<std::mutex> lock(mutex);
+      if (r.is_null()) continue;  // interrupted
       const std::string status = r["status"];
       if (status == "converted") ++sum.converted, sum.pixels += r["pixels"].get<std::uint64_t>();
       if (status == "up_to_date") ++sum.up_to_date;
@@ -388,8 +406,18 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   sum.stale_temporaries_removed = batch.stale;
   sum.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   sum.manifest = plan.manifest;
+  sum.interrupted = batch.stopping();
   std::string text;
-  for (const Json& r : records) text += dump_json(r) + "\n";
+  for (const Json& r : records) {
+    if (r.is_null()) {
+      ++sum.not_done;  // not started, or abandoned by the interruption
+      continue;
+    }
+    text += dump_json(r) + "\n";
+    // Kept for callers that cannot read the manifest back (a stream, /dev/stdout).
+    if (r.value("status", "") == "failed") sum.failures.push_back(dump_json(r));
+  }
+  sum.interrupted = sum.interrupted && sum.not_done > 0;
   for (const LeftOut& l : plan.left_out) text += left_out_line(l) + "\n";
   text +=
       summary_line(

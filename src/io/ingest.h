@@ -7,6 +7,7 @@
 // table; a JSON Lines manifest records what happened. A batch splits deterministically into
 // shards for a farm (Slurm job arrays), whose manifests merge into one.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -83,6 +84,9 @@ struct IngestSummary {
   std::string manifest;
   /// True when nothing failed: no file, and the walk entered everything. Cost: O(1).
   bool ok() const { return failed == 0 && not_entered == 0; }
+  bool interrupted = false;           // stopped on request: the files below were not done
+  std::uint64_t not_done = 0;         // files of the plan left undone by the interruption
+  std::vector<std::string> failures;  // each failed file's manifest record (JSON), in order
   /// Files handled, all statuses. Cost: O(1).
   std::uint64_t files() const {
     return converted + up_to_date + skipped_data + copied_data + failed;
@@ -99,10 +103,13 @@ using IngestProgressFn =
 
 /// Runs the plan: up-to-date checks, decisions, conversions in parallel (settings.ingest.jobs)
 /// through one shared node table, the manifest (JSON Lines: a record per file, then a summary).
-/// One bad file never stops the others. Throws Error only when the manifest cannot be
-/// written. Cost: the conversions.
-IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress,
-                         const LogFn& log);
+/// One bad file never stops the others. `stop` (may be null) is polled between files and
+/// between strips of a conversion: once true, no file is started, running conversions are
+/// abandoned (their temporaries removed), and the manifest records what was done, its summary
+/// marked interrupted. Throws Error only when the manifest cannot be written. Cost: the
+/// conversions.
+IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress, const LogFn& log,
+                         const std::atomic<bool>* stop = nullptr);
 
 /// Merges the shard manifests of `destination` (written by `--shard I/N` runs) into its
 /// manifest, "spectralize-ingest.jsonl", and returns the summary of all of them. The parts must

@@ -44,6 +44,10 @@ Json counts_json(const IngestSummary& s) {
   j["left_out_by_reason"] = Json::object();
   for (const auto& [kind, n] : s.left_out_by_reason) j["left_out_by_reason"][kind] = n;
   j["seconds"] = s.seconds;
+  if (s.interrupted) {
+    j["interrupted"] = true;
+    j["not_done"] = s.not_done;
+  }
   return j;
 }
 

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
@@ -19,11 +20,16 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// A name whose extension OpenImageIO writes.
-bool is_image_path(const std::string& path) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) (void)OIIO::geterror();
-  return out != nullptr;
+// The spectral OpenEXR a job writes: its sample type, compression, tiles and the channels of
+// `bands` bands with their previews (alpha, if the input has it, is checked by the job).
+OutputRequest spectral_request(const Settings& s) {
+  OutputRequest r;
+  r.samples = s.half ? "half" : "float";
+  r.compression = s.compression;
+  r.tile_width = s.tile_width;
+  r.tile_height = s.tile_height;
+  r.channels = static_cast<int>(s.spectral.grid.size()) + 3;
+  return r;
 }
 
 ColourSpaces load_config(const Settings& s, const OptionNames& names) {
@@ -53,15 +59,35 @@ Settings checked_image_settings(Settings s, const std::string& output, const Opt
   if (s.integer_bits != 0)
     throw Error(names("format") + " uint" + std::to_string(s.integer_bits) +
                 ": a spectral OpenEXR stores half or float samples");
+  check_output(output, spectral_request(s), names.prefix);
   resolve_colour_space(s, load_config(s, names), names);
   return s;
 }
 
 Settings checked_to_rgb_settings(Settings s, const std::string& output, bool format_given,
-                                 const OptionNames& names) {
-  if (!is_image_path(output))
+                                 bool compression_given, const OptionNames& names) {
+  const OutputFormat* format = output_format_for(output);
+  if (!format)
     throw Error(names.output + " '" + clip(output) +
                 "': an image file OpenImageIO writes (.exr, .tif, .png, .jpg, .hdr, ...)");
+  // Formats that store integers are display-referred: 8 bits unless a type is asked; the
+  // others hold half (OpenEXR, the settings' default) or float (Radiance HDR).
+  if (!format_given) {
+    if (format->holds("uint8"))
+      s.integer_bits = 8;
+    else if (!format->holds("half"))
+      s.half = false;
+  }
+  if (!compression_given) s.compression = std::string(format->default_compression);
+  OutputRequest r;
+  r.samples = s.integer_bits == 8    ? "uint8"
+              : s.integer_bits == 16 ? "uint16"
+              : s.half               ? "half"
+                                     : "float";
+  r.compression = s.compression;
+  r.tile_width = s.tile_width;
+  r.tile_height = s.tile_height;
+  check_output(output, r, names.prefix);
   const ColourSpaces spaces = load_config(s, names);
   resolve_colour_space(s, spaces, names);
   if (!s.display.empty() && !s.colorspace.empty())
@@ -70,24 +96,17 @@ Settings checked_to_rgb_settings(Settings s, const std::string& output, bool for
     throw Error(names("view") + " needs " + names("display"));
   if (!s.display.empty())
     with_context(names("display"), [&] { return spaces.display_from_xyz(s.display, s.view); });
-  // Files that store integers are display-referred: an encoded space and 8 bits by default.
-  // TIFF holds either: integers unless half or float is asked for.
-  const std::string ext = lower_extension(output);
-  const bool float_file = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
-  const bool tiff = ext == ".tif" || ext == ".tiff";
-  const bool integer_file = !float_file && !(tiff && format_given && s.integer_bits == 0);
-  if (integer_file && !format_given) s.integer_bits = 8;
-  if (integer_file && s.integer_bits == 0)
-    throw Error(names.output + " '" + clip(output) + "': " + names("format") +
-                " uint8 or uint16 for this file type (half and float: .exr, .tif, .hdr, .pfm)");
+  // Integer samples are display-referred: an encoded space by default; float ones linear.
   if (s.colorspace.empty() && s.display.empty())
-    s.colorspace = default_colour_space(spaces, !integer_file).first;
+    s.colorspace = default_colour_space(spaces, s.integer_bits == 0).first;
   return s;
 }
 
 Settings checked_ingest_settings(Settings s, const OptionNames& names) {
   if (s.integer_bits != 0)
     throw Error(names("format") + ": a spectral OpenEXR stores half or float samples");
+  check_format(*output_format_named("openexr"), spectral_request(s),
+               "the outputs (OpenEXR): ", names.prefix);
   resolve_colour_space(s, load_config(s, names), names);
   return s;
 }

@@ -1,6 +1,7 @@
 #include "io/rgb_from_spectral.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,13 @@
 namespace spectralize {
 
 namespace {
+
+// A wavelength as given (the shortest text that reads back as the same double).
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 // At least two bands, and some inside the CIE tables (360-830 nm), or no colour can be made.
 void check_band_span(std::size_t bands, double first_nm, double last_nm, const std::string& where) {
@@ -36,9 +44,8 @@ SpectralLayoutInfo spectral_layout_of_samples(const std::vector<double>& wavelen
     if (!std::isfinite(wavelengths[i]))
       throw Error(where + "wavelength " + std::to_string(i) + " is not finite");
     if (i > 0 && !(wavelengths[i] > wavelengths[i - 1]))
-      throw Error(where + "wavelengths must increase strictly (" +
-                  std::to_string(wavelengths[i - 1]) + " then " + std::to_string(wavelengths[i]) +
-                  " nm at " + std::to_string(i) + ")");
+      throw Error(where + "wavelengths must increase strictly (" + shortest(wavelengths[i - 1]) +
+                  " then " + shortest(wavelengths[i]) + " nm at " + std::to_string(i) + ")");
     info.band_channels.push_back(static_cast<int>(i));
   }
   if (!wavelengths.empty())
@@ -138,30 +145,37 @@ RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, f
   const int out_nch = output_channels();
   const std::size_t bands = layout_.band_channels.size();
   std::vector<float> rgb(n * 3);
+  std::vector<char> beyond_float(n, 0);  // pixels whose XYZ exceeds float's range
   for (std::size_t p = 0; p < n; ++p) {
     const float* px = in + p * in_nch;
-    float X = 0, Y = 0, Z = 0;
+    // In double: samples near float's limit must not overflow the sum itself.
+    double X = 0, Y = 0, Z = 0;
     bool bad = false;
     for (std::size_t i = 0; i < bands; ++i) {
       float v = px[layout_.band_channels[i]];
       if (!std::isfinite(v)) v = 0, bad = true;
-      X += wx_[i] * v;
-      Y += wy_[i] * v;
-      Z += wz_[i] * v;
+      X += static_cast<double>(wx_[i]) * v;
+      Y += static_cast<double>(wy_[i]) * v;
+      Z += static_cast<double>(wz_[i]) * v;
     }
     counts.invalid += bad;
-    rgb[p * 3] = X * balance_[0];
-    rgb[p * 3 + 1] = Y * balance_[1];
-    rgb[p * 3 + 2] = Z * balance_[2];
+    const double xyz[3] = {X * balance_[0], Y * balance_[1], Z * balance_[2]};
+    for (int c = 0; c < 3; ++c) {
+      const bool beyond = std::abs(xyz[c]) > std::numeric_limits<float>::max();
+      beyond_float[p] = beyond_float[p] || beyond;
+      rgb[p * 3 + c] = beyond ? std::copysign(std::numeric_limits<float>::max(), xyz[c])
+                              : static_cast<float>(xyz[c]);
+    }
   }
   from_xyz_.apply(rgb.data(), n);
   const float limit = half ? 65504.0f : std::numeric_limits<float>::max();
   for (std::size_t p = 0; p < n; ++p) {
     float* o = out + p * out_nch;
-    bool over = false, clip = false;
+    bool over = beyond_float[p] != 0, clip = false;
     for (int c = 0; c < 3; ++c) {
       float v = rgb[p * 3 + c];
-      if (std::isnan(v)) v = 0;
+      // NaN only comes from a conversion that overflowed (inf - inf): out of range too.
+      if (std::isnan(v)) v = 0, over = true;
       if (integer && !(v >= 0 && v <= 1)) {
         clip = true;
         v = std::clamp(v, 0.0f, 1.0f);
@@ -172,7 +186,7 @@ RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, f
       o[c] = v;
     }
     counts.clipped += clip;
-    counts.half_overflow += over;
+    (half ? counts.half_overflow : counts.float_overflow) += over && !integer;
     if (out_nch == 4) {
       const float a = in[p * in_nch + layout_.alpha];
       o[3] =

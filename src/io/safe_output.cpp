@@ -3,10 +3,12 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/resource.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cctype>
@@ -112,9 +114,61 @@ bool write_all(int fd, const char* data, std::size_t size, std::int64_t offset, 
   return true;
 }
 
+// --- Alternate signal stacks ---
+// A stack overflow raises SIGSEGV on the thread whose stack is exhausted; the kernel can only
+// run a handler there on an alternate stack, else the process dies without cleaning up. Each
+// thread gets its own (sigaltstack is per thread), freed when the thread ends.
+class SignalStack {
+ public:
+  void ensure() {
+    if (base_ || foreign_) return;
+    stack_t old{};
+    if (::sigaltstack(nullptr, &old) == 0 && !(old.ss_flags & SS_DISABLE)) {
+      foreign_ = true;  // a host's (e.g. Python's faulthandler): keep it
+      return;
+    }
+    // Room for the handler (unlink and raise) many times over, and a guard page below it.
+    const long page = ::sysconf(_SC_PAGESIZE);
+    const long wanted = std::max<long>(64 * 1024, ::sysconf(_SC_SIGSTKSZ));
+    size_ = static_cast<std::size_t>((wanted + page - 1) / page * page + page);
+    void* p = ::mmap(nullptr, size_, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_STACK, -1, 0);
+    if (p == MAP_FAILED) return;
+    ::mprotect(p, static_cast<std::size_t>(page), PROT_NONE);
+    stack_t st{};
+    st.ss_sp = static_cast<char*>(p) + page;
+    st.ss_size = size_ - static_cast<std::size_t>(page);
+    st.ss_flags = 0;
+    if (::sigaltstack(&st, nullptr) != 0) {
+      ::munmap(p, size_);
+      return;
+    }
+    base_ = p;
+  }
+  ~SignalStack() {
+    if (!base_) return;
+    stack_t off{};
+    off.ss_flags = SS_DISABLE;
+    ::sigaltstack(&off, nullptr);
+    ::munmap(base_, size_);
+  }
+
+ private:
+  void* base_ = nullptr;
+  std::size_t size_ = 0;
+  bool foreign_ = false;
+};
+
+thread_local SignalStack t_signal_stack;
+
 }  // namespace
 
+void ensure_signal_stack() {
+  t_signal_stack.ensure();
+}
+
 void install_cleanup_handlers() {
+  ensure_signal_stack();
   static std::once_flag once;
   std::call_once(once, [] {
     g_umask = ::umask(0);
@@ -129,7 +183,8 @@ void install_cleanup_handlers() {
     struct sigaction sa {};
     sa.sa_handler = remove_temporaries_and_die;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
+    // SA_ONSTACK: on the thread's alternate stack, so that a stack overflow is cleaned up too.
+    sa.sa_flags = SA_RESETHAND | SA_ONSTACK;
     // Every signal whose default action ends the process: interruptions, timers, CPU limits,
     // user signals, and crashes (the temporaries go before the default action runs).
     for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF,
@@ -513,6 +568,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rul
                            std::span<const std::string> inputs)
     : destination_(destination), target_(destination) {
   install_cleanup_handlers();
+  ensure_signal_stack();  // this thread may be another than the one that installed them
   const std::string where = quote(destination, 200) + ": ";
   bool stream = false;
   FilePlace place;

@@ -24,8 +24,16 @@ namespace spectralize {
 /// Installs the handlers that remove this process's temporary files on SIGINT, SIGTERM and
 /// SIGHUP (then die of the signal, so shells report 128 + signal), and ignores SIGPIPE and
 /// SIGXFSZ so that failing writes are reported as errors; each only where the signal is still
-/// at its default action (a host's handlers, e.g. Python's, are kept). Idempotent. Cost: O(1).
+/// at its default action (a host's handlers, e.g. Python's, are kept). The handlers run on an
+/// alternate signal stack (ensure_signal_stack), so a stack overflow still cleans up.
+/// Idempotent. Cost: O(1).
 void install_cleanup_handlers();
+
+/// Gives the calling thread an alternate signal stack, unless it has one (its own or a host's):
+/// a thread whose stack overflows can only run a handler there (docs/DESIGN.md §9). Called by
+/// every thread that opens or writes files (readers, AtomicOutput, batch workers). Cost: one
+/// mmap the first time per thread, a thread-local test after.
+void ensure_signal_stack();
 
 /// Refuses (FileError naming the file and the reason) a path that is missing, not a regular file
 /// (directory, FIFO, device, socket) or unreadable; `what` names its role ("input",

@@ -1,11 +1,13 @@
 #include "io/settings.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <tuple>
 
 #include "core/colorimetry.h"
 #include "core/error.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
@@ -53,35 +55,35 @@ bool is_reflectance(const Settings& s) {
   return s.spectral.mode == Mode::reflectance;
 }
 
-// The compression as OIIO takes it: a codec name, and for zip/zips a zlib level 1..9, for
-// dwaa/dwab a quality > 0 ("dwaa:45").
+// The compression as a writer takes it, NAME[:LEVEL]: a name some format takes, with a level
+// in the range any format takes for it (a whole number; for dwaa/dwab a quality above 0). The
+// output's own format checks it further before any work (io/output_formats.h).
 std::string parse_compression(std::string_view text) {
   const std::size_t colon = text.find(':');
   const std::string_view name = text.substr(0, colon);
-  bool known = false;
-  for (std::string_view c : exr_compressions()) known = known || c == name;
-  if (!known) {
+  const auto& names = all_compression_names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) {
     std::string valid;
-    for (std::string_view c : exr_compressions())
-      valid += (valid.empty() ? "" : ", ") + std::string(c);
-    throw Error(quoted(text) + " (valid: " + valid + ", with :LEVEL for zip, zips, dwaa, dwab)");
+    for (std::string_view c : names) valid += (valid.empty() ? "" : ", ") + std::string(c);
+    throw Error(quoted(text) + " (valid: " + valid + ", some with :LEVEL, e.g. zip:9, jpeg:90)");
   }
   if (colon == std::string_view::npos) return std::string(name);
   const std::string_view level = text.substr(colon + 1);
-  if (name == "zip" || name == "zips") {
-    try {
-      whole(level, 1, 9);
-    } catch (const Error& e) {
-      throw Error(quoted(text) + ": the zip level " + e.what());
-    }
-  } else if (name == "dwaa" || name == "dwab") {
+  int lo = 0, hi = 0;
+  if (name == "dwaa" || name == "dwab") {
     double q = 0;
     auto r = std::from_chars(level.data(), level.data() + level.size(), q);
     if (r.ec != std::errc() || r.ptr != level.data() + level.size() || !(q > 0) ||
         !std::isfinite(q))
       throw Error(quoted(text) + ": the DWA quality must be a number above 0 (e.g. dwaa:45)");
+  } else if (compression_level_range(name, lo, hi)) {
+    try {
+      whole(level, lo, hi);
+    } catch (const Error& e) {
+      throw Error(quoted(text) + ": the " + std::string(name) + " level " + e.what());
+    }
   } else {
-    throw Error(quoted(text) + ": only zip, zips, dwaa and dwab take a level");
+    throw Error(quoted(text) + ": " + std::string(name) + " takes no level");
   }
   return std::string(text);
 }
@@ -195,11 +197,14 @@ std::vector<SettingSpec> make_schema() {
                },
                [](const Settings& v) { return std::string(v.json ? "json" : "csv"); }, nullptr});
   s.push_back({"compression", "--compression", "NAME", "",
-               "OpenEXR compression, OIIO's NAME[:LEVEL]: zip, zips, piz, rle, pxr24, b44, b44a, "
-               "dwaa, dwab, none (zip:1..9, plain zip is zip:4; dwaa:45)",
+               "Compression, NAME[:LEVEL] as the output's format takes it: OpenEXR zip, zips, "
+               "piz, rle, pxr24, b44, b44a, dwaa, dwab, none (zip:1..9, plain zip is zip:4; "
+               "dwaa:45); --to-rgb also TIFF none, lzw, zip, packbits; PNG zip:0..9; JPEG "
+               "jpeg:1..100; WebP webp:1..100",
                kFileCommands, true, false,
                [](Settings& v, std::string_view t) { v.compression = parse_compression(t); },
-               [](const Settings& v) { return v.compression; }, nullptr});
+               [](const Settings& v) { return v.compression; }, nullptr,
+               "zip; --to-rgb: the format's own (TIFF zip, PNG zip:6, JPEG jpeg:98)"});
   s.push_back({"tile", "--tile", "N", "",
                "Write N x N tiles (also --tile W H, or WxH), 16..4096, instead of scanlines (0)",
                kFileCommands, true, false,
@@ -368,12 +373,6 @@ std::string_view to_string(ModeChoice mode) {
       return "reflectance";
   }
   return "auto";
-}
-
-const std::vector<std::string_view>& exr_compressions() {
-  static const std::vector<std::string_view> names = {"none",  "rle", "zips", "zip",  "piz",
-                                                      "pxr24", "b44", "b44a", "dwaa", "dwab"};
-  return names;
 }
 
 const std::vector<SettingSpec>& settings_schema() {

@@ -153,7 +153,4 @@ std::string_view to_string(ModeChoice mode);
 /// "linear" / "log" / "normalized". Cost: O(1).
 std::string_view to_string(PlotScale scale);
 
-/// The canonical names of OpenEXR compressions OIIO writes. Cost: O(1).
-const std::vector<std::string_view>& exr_compressions();
-
 }  // namespace spectralize

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "io/safe_output.h"
+
 namespace spectralize {
 
 void PixelCounts::add(const PixelCounts& o) {
@@ -135,6 +137,7 @@ void SpectralConverter::convert(const float* in, std::size_t n, float* out) {
   OIIO::parallel_for_chunked(
       0, static_cast<int64_t>(n), 1024,
       [&](int64_t begin, int64_t end) {
+        ensure_signal_stack();  // OIIO's pool threads too: a crash here still cleans up
         PixelCounts c;
         const std::size_t b = static_cast<std::size_t>(begin),
                           m = static_cast<std::size_t>(end - begin);

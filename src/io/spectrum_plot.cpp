@@ -22,6 +22,7 @@
 #include "io/colour_space.h"
 #include "io/colour_tags.h"
 #include "io/image_file_output.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace fs = std::filesystem;
@@ -425,8 +426,24 @@ bool is_plot_path(const std::string& path) {
   return true;
 }
 
+// The samples a raster plot is written in, from the output table: 8-bit encoded colours where
+// the format holds them, else half or float (OpenEXR, Radiance HDR), whose convention is linear
+// light.
+OIIO::TypeDesc plot_sample_type(const OutputFormat* f) {
+  if (!f || f->holds("uint8")) return OIIO::TypeUInt8;
+  return f->holds("half") ? OIIO::TypeHalf : OIIO::TypeFloat;
+}
+
+void check_plot_file(const std::string& path) {
+  if (lower_extension(path) == ".svg") return;
+  OutputRequest want;
+  want.samples = sample_type_name(plot_sample_type(output_format_for(path)));
+  check_output(path, want, "");
+}
+
 std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::string& path,
                                       const PlotSpaces& cs, std::span<const std::string> inputs) {
+  check_plot_file(path);  // before any drawing
   const std::string font = find_font();
   if (font.empty())
     throw Error("'" + path +
@@ -451,12 +468,11 @@ std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::strin
       big, "box", 1.0f, OIIO::ROI(0, kPlotWidth, 0, kPlotHeight, 0, 1, 0, 3));
   if (small.has_error()) throw Error("'" + path + "': cannot filter the plot: " + small.geterror());
 
-  // The drawing's encoded space for 8-bit formats; the linear space for OpenEXR and Radiance
-  // HDR, whose convention is linear light (converted by OCIO).
-  OIIO::TypeDesc type = OIIO::TypeUInt8;
+  // The drawing's encoded space for 8-bit formats; the linear space for the others (OpenEXR,
+  // Radiance HDR), whose convention is linear light (converted by OCIO).
+  const OIIO::TypeDesc type = plot_sample_type(output_format_named(format));
   std::string space = cs.encoded;
-  if (format == "openexr" || format == "hdr") {
-    type = format == "openexr" ? OIIO::TypeHalf : OIIO::TypeFloat;
+  if (type != OIIO::TypeUInt8) {
     space = cs.linear;
     OIIO::ImageBuf linear;
     linear.copy(small, OIIO::TypeFloat);

@@ -65,6 +65,11 @@ PlotColour plot_palette(std::size_t i);
 /// .tif, .exr, ...). Cost: a plugin lookup, ~us once loaded.
 bool is_plot_path(const std::string& path);
 
+/// Throws Error naming the file when `path` cannot hold a plot: an .svg, or a format of the
+/// output table (io/output_formats.h) that stores its samples (8-bit RGB; OpenEXR half,
+/// Radiance HDR float). Cost: O(formats).
+void check_plot_file(const std::string& path);
+
 /// Draws the plot with ImageBufAlgo (supersampled, then filtered down) and writes it in the
 /// format of `path`'s extension: 8-bit in `cs.encoded`, or `cs.linear` (converted by OCIO) in
 /// half for OpenEXR / float for Radiance HDR, tagged as io/colour_tags.h says; returns its

@@ -57,8 +57,9 @@ const OptionNames kFlagNames{"--", "-o"};
 int run_to_rgb(const Options& opt) {
   if (opt.output.empty()) throw UsageError{"-o OUTPUT is required"};
   const Settings s = usage_checked("", [&] {
-    return checked_to_rgb_settings(
-        opt.settings, opt.output, opt.given.count("--format") || opt.given.count("-d"), kFlagNames);
+    return checked_to_rgb_settings(opt.settings, opt.output,
+                                   opt.given.count("--format") || opt.given.count("-d"),
+                                   opt.given.count("--compression") > 0, kFlagNames);
   });
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);

@@ -68,6 +68,11 @@ void check_plot_output(const Options& opt, const char* command) {
         "-o '{}': a plot is written as .svg or as an image OpenImageIO writes (.png, .jpg, .tif, "
         ".exr, ...)",
         clip(opt.output))};
+  try {
+    check_plot_file(opt.output);
+  } catch (const Error& e) {
+    throw UsageError{e.what()};
+  }
 }
 
 // The settings line of a --color plot: colour space, then the settings that mattered (from the

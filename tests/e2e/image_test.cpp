@@ -583,6 +583,51 @@ TEST(CliImage, TiledInputsStreamInTheMemoryOfScanlineOnes) {
   EXPECT_LE(tiled_mb, scan_mb + 40.0);
 }
 
+// Memory does not depend on how the input is stored: every OpenEXR compression and sample type
+// streams in the memory of a zip-compressed float map. OpenEXR decodes whole chunks (256 rows
+// for DWAB, 32 for PIZ, B44 and DWAA, 16 for zip) and, read through OIIO, kept 2 per OpenEXR
+// thread of them: a 2048-wide float DWAB map held 4 x 6 MB on two cores (100 MB at 8192 wide,
+// an 8K DWAB map peaked at 538 MB against 446 for zip). The reader keeps at most 16 MB of
+// them, so the bound is the zip map's peak + 12 MB (one 6 MB DWAB chunk and its decoder's
+// buffers, and a few MB of RSS noise), at any width the same margin in proportion. Oracle:
+// peak RSS of the same image stored each way.
+TEST(CliImage, InputCompressionAndSampleTypeDoNotChangePeakMemory) {
+#ifdef SPECTRALIZE_SANITIZED
+  GTEST_SKIP() << "peak memory is not meaningful under sanitizers (shadow memory)";
+#endif
+  Scratch s;
+  // One chunk size per kind of codec (16, 32 and 256 rows), both sample types.
+  const std::vector<std::pair<std::string, std::string>> stored = {
+      {"float", "zip"}, {"float", "piz"}, {"float", "dwab"}, {"half", "b44"}, {"half", "dwab"}};
+  std::string make = "oiiotool " + kImages + "hdri_interior_1024x512.exr --resize 2048x1024";
+  for (const auto& [type, compression] : stored)
+    make += " -d " + type + " --compression " + compression + " -o " +
+            (s / (type + "_" + compression + ".exr"));
+  ASSERT_EQ(std::system((make + " >/dev/null 2>&1").c_str()), 0);
+  // Few bands and no output compression: the input's share of the memory is what is measured.
+  // The smaller of two runs: peak RSS of one run varies by ~7 MB on a busy machine (threads'
+  // timing), always upwards.
+  const auto peak = [&](const std::string& type, const std::string& compression) {
+    double least = 0;
+    for (int run = 0; run < 2; ++run) {
+      const e2e::Measured m = e2e::run_measured(
+          std::string(SPECTRALIZE_BINARY) + " " + (s / (type + "_" + compression + ".exr")) +
+          " -o " + (s / "o.exr") + " -q --threads 2 --wavelengths 400:700:100 --compression none");
+      EXPECT_EQ(m.exit_code, 0) << type << " " << compression;
+      least = run == 0 ? m.peak_mb : std::min(least, m.peak_mb);
+    }
+    return least;
+  };
+  const double zip = peak("float", "zip");
+  for (std::size_t i = 1; i < stored.size(); ++i) {
+    const auto& [type, compression] = stored[i];
+    const double mb = peak(type, compression);
+    std::printf("  2048x1024 %s %s: %.0f MB peak RSS (float zip: %.0f MB)\n", type.c_str(),
+                compression.c_str(), mb, zip);
+    EXPECT_LE(mb, zip + 12.0) << type << " " << compression;
+  }
+}
+
 // Streaming: an 8192x4096 map at 81 bands (5.6 GB of HALF samples, written in parallel
 // compression blocks) in <= 500 MB peak RSS (the OIIO libraries alone take ~130 MB), with no
 // page-fault storm (minor faults: first touches of the buffers, not a fault per row), and the

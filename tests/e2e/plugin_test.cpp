@@ -150,6 +150,43 @@ TEST(Plugin, IinfoDescribesARecipe) {
   EXPECT_NE(r.out.find("emissiveUnits"), std::string::npos);
 }
 
+// A reader writes nothing unless asked: a recipe's node cache is read where its folder exists,
+// and only "cache_write": "yes" (or the open attribute spectral:cache_write, oiiotool -iconfig)
+// lets the plugin create the folder and save the nodes. Oracle: the file system.
+TEST(Plugin, ReadersWriteTheCacheOnlyWhenAsked) {
+  Scratch s;
+  const std::string cache = s / "cache";
+  const std::string recipe =
+      s.write("r.spectral", R"({"source": ")" + kImages + R"(colorchecker_srgb8.png", "cache": ")" +
+                                cache + R"("})");
+  auto files_in_cache = [&] {
+    std::vector<std::string> out;
+    if (fs::is_directory(cache))
+      for (const auto& e : fs::directory_iterator(cache)) out.push_back(e.path().string());
+    return out;
+  };
+  // Reproduction: iinfo created the folder, oiiotool saved a cache in it.
+  EXPECT_EQ(sh("iinfo -v " + recipe).exit_code, 0);
+  EXPECT_FALSE(fs::exists(cache));
+  EXPECT_EQ(sh("oiiotool " + recipe + " -o " + (s / "o.exr")).exit_code, 0);
+  EXPECT_FALSE(fs::exists(cache));
+  // An existing folder is read, not written.
+  fs::create_directories(cache);
+  EXPECT_EQ(sh("oiiotool " + recipe + " -o " + (s / "o.exr")).exit_code, 0);
+  EXPECT_TRUE(files_in_cache().empty());
+  // Asked by the open configuration: saved.
+  EXPECT_EQ(
+      sh("oiiotool -iconfig spectral:cache_write yes " + recipe + " -o " + (s / "o.exr")).exit_code,
+      0);
+  EXPECT_EQ(files_in_cache().size(), 1u);
+  // Asked by the recipe: the folder is made and the nodes saved.
+  fs::remove_all(cache);
+  s.write("w.spectral", R"({"source": ")" + kImages + R"(colorchecker_srgb8.png", "cache": ")" +
+                            cache + R"(", "cache_write": "yes"})");
+  EXPECT_EQ(sh("oiiotool " + (s / "w.spectral") + " -o " + (s / "o.exr")).exit_code, 0);
+  EXPECT_EQ(files_in_cache().size(), 1u);
+}
+
 TEST(Plugin, SpectralToRgbRecipeMatchesTheCli) {
   Scratch s;
   ASSERT_EQ(

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include "core/error.h"
 #include "core/spectral_table.h"
@@ -73,6 +74,60 @@ TEST(Recipe, RefusesWhatTheCliRefusesNamingTheRecipe) {
                Error);
   EXPECT_TRUE(looks_like_recipe(R"({"source": "a.png"})"));
   EXPECT_FALSE(looks_like_recipe(R"({"source": 1})"));
+}
+
+TEST(Recipe, CacheWritesOnlyWhenAsked) {
+  EXPECT_FALSE(parse_recipe(R"({"source": "a.png", "cache": "c"})", "x.spectral").cache_write);
+  EXPECT_TRUE(
+      parse_recipe(R"({"source": "a.png", "cache_write": "yes"})", "x.spectral").cache_write);
+  // The plugin's attribute spectral:cache_write arrives as an override.
+  EXPECT_TRUE(
+      parse_recipe(R"({"source": "a.png"})", "x.spectral", {{"cache_write", "yes"}}).cache_write);
+  EXPECT_THROW(parse_recipe(R"({"source": "a.png", "cache_write": "1"})", "x.spectral"), Error);
+}
+
+// Recipe chains: a thread's nested opens. Oracle: the documented limit and the file system's
+// identity of files (a hard link is the same recipe).
+TEST(RecipeChain, RefusesLoopsAndChainsBeyondTheLimitNamingTheFirstRecipe) {
+  const fs::path dir = fs::temp_directory_path() / ("recipe_chain_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::vector<std::string> paths;
+  for (int i = 0; i <= kMaxRecipeDepth; ++i) {
+    paths.push_back((dir / ("r" + std::to_string(i) + ".spectral")).string());
+    std::ofstream(paths.back()) << "{}";
+  }
+  {
+    std::vector<std::unique_ptr<RecipeChainLink>> links;
+    for (int i = 0; i < kMaxRecipeDepth; ++i) {
+      links.push_back(std::make_unique<RecipeChainLink>(paths[i]));
+      EXPECT_EQ(links.back()->depth(), i + 1);
+    }
+    try {
+      RecipeChainLink one_more(paths[kMaxRecipeDepth]);
+      ADD_FAILURE() << "a chain of " << kMaxRecipeDepth + 1 << " recipes was accepted";
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("'" + paths[0] + "': a chain of more than 16 recipes", 0), 0u) << m;
+      EXPECT_EQ(RecipeChainLink::chain_failure(), m);
+    }
+  }
+  {
+    // A loop through another name of the same file; a fresh chain forgets the old failure.
+    const std::string alias = (dir / "alias.spectral").string();
+    fs::create_hard_link(paths[0], alias);
+    RecipeChainLink a(paths[0]);
+    EXPECT_TRUE(RecipeChainLink::chain_failure().empty());
+    RecipeChainLink b(paths[1]);
+    try {
+      RecipeChainLink again(alias);
+      ADD_FAILURE() << "a loop was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("loop"), std::string::npos) << e.what();
+    }
+  }
+  // Every link has gone: the chain starts again at depth 1.
+  EXPECT_EQ(RecipeChainLink(paths[3]).depth(), 1);
+  fs::remove_all(dir);
 }
 
 // --- Input interpretation ---
