@@ -127,7 +127,7 @@ std::string config_identity_now(const Settings& s) {
 ColourArrays& colour_arrays(const Settings& s, Messages& messages) {
   std::string key = config_identity_now(s);
   for (const SettingSpec& spec : settings_schema())
-    key += "\n" + std::string(spec.key) + "=" + spec.format(s);
+    key.append("\n").append(spec.key).append("=").append(spec.format(s));
   State& st = state();
   std::lock_guard<std::mutex> lock(st.mutex);
   auto it = st.arrays.find(key);

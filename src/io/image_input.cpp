@@ -18,7 +18,7 @@ namespace {
 constexpr std::size_t kChunkBudget = 16u << 20;
 
 std::string quote(const std::string& path) {
-  return "'" + clip(path, 200) + "'";
+  return spectralize::quote(path, 200);
 }
 
 }  // namespace

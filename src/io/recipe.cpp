@@ -64,7 +64,7 @@ RecipeChainLink::RecipeChainLink(const std::string& path) {
   std::vector<std::string> paths;
   for (const auto& link : c.links) paths.push_back(link.first);
   paths.push_back(path);
-  const std::string first = "'" + clip(paths.front(), 200) + "': ";
+  const std::string first = quote(paths.front(), 200) + ": ";
   for (const auto& link : c.links)
     if (known && link.second == id) {
       c.failure = first + "the recipes form a loop (" + chain_text(paths) +
@@ -99,7 +99,7 @@ bool looks_like_recipe(const std::string& text) {
 
 Recipe parse_recipe(const std::string& text, const std::string& path,
                     const std::map<std::string, std::string>& overrides) {
-  const std::string where = "'" + clip(path, 200) + "': ";
+  const std::string where = quote(path, 200) + ": ";
   if (text.size() > kMaxRecipeBytes)
     throw Error(where + "too large for a recipe (" + std::to_string(text.size()) +
                 " bytes; at most 64 KB)");

@@ -85,7 +85,7 @@ SpectralLayoutInfo analyse_spectral_layout(const OIIO::ImageSpec& spec, const st
     else
       stokes_other = true;
   }
-  const std::string where = "'" + clip(file, 200) + "': ";
+  const std::string where = quote(file, 200) + ": ";
   if (s0.empty() && t.empty())
     throw Error(where + (stokes_other ? "has S1..S3 channels but no S0 (intensity) channels"
                                       : "has no spectral channels (S0.<wavelength>nm or "

@@ -150,7 +150,7 @@ void print_help() {
       if (f.commands & command) flags += std::string(flags.empty() ? "" : " ") + f.flag;
     for (const SettingSpec& spec : settings_schema())
       if (spec.applies(static_cast<Command>(command)) && flags.find(spec.flag) == std::string::npos)
-        flags += " " + std::string(spec.flag);
+        flags.append(" ").append(spec.flag);
     print_entry(name, flags + " -v -q", width);
   }
   fmt::print("\nCommands and outputs:\n");
