@@ -97,9 +97,12 @@ TEST(PathTracer, RtConvergesToTheDenseRenderOfSpectralizesOwnSpectra) {
   const double floor_mean = doc["floor"]["mean"], floor_max = doc["floor"]["max"];
   const double floor_xyz = doc["floor_relative_xyz"];
   ::testing::Test::RecordProperty("floor_max_dE2000", std::to_string(floor_max));
-  EXPECT_LT(floor_mean, 0.01) << r.out;
-  EXPECT_LT(floor_max, 0.05) << r.out;
-  EXPECT_LT(floor_xyz, 1e-3) << r.out;
+  // Relative XYZ within the project's float bar, 1e-5 (2.4e-7 measured; dE2000 max 2.6e-5).
+  // Files of another model than the tables' miss it by far (the chart's colours are the
+  // exemplar model's exemplars).
+  EXPECT_LT(floor_mean, 1e-4) << r.out;
+  EXPECT_LT(floor_max, 1e-3) << r.out;
+  EXPECT_LT(floor_xyz, 1e-5) << r.out;
   // Every texel of the chart and the HDRI is inside the tables' gamuts.
   EXPECT_EQ(doc.at("mapped_lookups").get<long>(), 0);
   EXPECT_EQ(doc.at("invalid_lookups").get<long>(), 0);
