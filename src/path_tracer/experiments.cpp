@@ -1,6 +1,7 @@
 #include "path_tracer/experiments.h"
 
 #include <spectralize/rt.h>
+#include <spectralize/rt.hpp>
 
 #include <fmt/core.h>
 
@@ -35,6 +36,17 @@ TablePtr load_table(const std::string& path, int mode) {
     throw Error("'" + path + "': a table of " + (mode ? "emission" : "reflectance") + ", not of " +
                 (mode ? "reflectance" : "emission"));
   return t;
+}
+
+// The comparison's truth is the measured ColorChecker, and near the chart's colours the exemplar
+// model's spectra are those measurements (its exemplars, docs/DESIGN.md §6): a table of it would
+// be compared with the data it was made from. Error for such a table. Cost: O(1).
+void require_unseen_truth(const spz_table* table, const std::string& path) {
+  const std::string model = table->table.view().header().model;
+  if (model == "exemplar")
+    throw Error("'" + path + "': a table of the exemplar model, whose exemplars include the " +
+                "measured ColorChecker the comparison renders as its truth; make the table with " +
+                "--model natural (a model that has not seen the chart)");
 }
 
 // Samples per pixel of the floor's renders (it is the same at any count).
@@ -141,6 +153,7 @@ ComparisonReport run_comparison(const ComparisonSetup& s) {
   const auto t0 = std::chrono::steady_clock::now();
   const ColourSpaces spaces = ColourSpaces::load();
   const TablePtr reflectance = load_table(s.reflectance_table, 1);
+  require_unseen_truth(reflectance.get(), s.reflectance_table);
   const std::string space = spz_table_colorspace(reflectance.get());
   const RgbImage texture = read_linear_rgb(s.texture, s.texture_space, space, spaces);
   const figures::Mat3 m = figures::rgb_to_xyz_matrix(spaces, space);

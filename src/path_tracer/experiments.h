@@ -62,10 +62,10 @@ ConvergenceReport run_convergence(const ConvergenceSetup& setup);
 struct ComparisonSetup {
   std::string texture, texture_space = "sRGB - Texture";                 // the ColorChecker chart
   std::string environment, environment_space = "Linear Rec.709 (sRGB)";  // luminance pattern
-  std::string reflectance_table;
-  std::string illuminant = "A";  // the light's spectrum (any CIE illuminant name)
-  int sigmoid_resolution = 64;   // the baseline's table (pbrt-v4's is 64)
-  double map_scale = 5;          // dE2000 at the bright end of the maps
+  std::string reflectance_table;  // of a model that has not seen the chart: not exemplar
+  std::string illuminant = "A";   // the light's spectrum (any CIE illuminant name)
+  int sigmoid_resolution = 64;    // the baseline's table (pbrt-v4's is 64)
+  double map_scale = 5;           // dE2000 at the bright end of the maps
   RenderSettings render;
 };
 

@@ -33,6 +33,7 @@ constexpr const char* kUsage =
     "           --environment-spectra EXR [options]\n"
     "       spectralize_path_tracer compare --texture PNG --environment EXR\n"
     "           --reflectance-table FILE [--illuminant A] [--sigmoid-resolution 64] [options]\n"
+    "           (its table of a model that has not seen the measured chart: not exemplar)\n"
     "options: --size N (64), --spp N[,N...] (4,16,64), --threads N (2), --light-scale S (1),\n"
     "         --texture-space NAME (sRGB - Texture), --environment-space NAME\n"
     "         (Linear Rec.709 (sRGB)), --png-prefix PATH, --json FILE\n";
