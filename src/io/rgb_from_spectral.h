@@ -44,7 +44,8 @@ SpectralLayoutInfo spectral_layout_of_samples(const std::vector<double>& wavelen
 struct RgbCounts {
   std::uint64_t invalid = 0;        // pixels with NaN or infinite samples (taken as 0)
   std::uint64_t half_overflow = 0;  // pixels with an RGB value beyond HALF's range (clamped)
-  std::uint64_t clipped = 0;        // integer output: pixels with a value outside 0..1 (clipped)
+  std::uint64_t clipped = 0;        // integer output: pixels with a value more than half a code
+                                    // value outside 0..1 (clipped: a code lost)
 };
 
 class RgbFromSpectral {
