@@ -28,7 +28,8 @@ struct ImageConversion::Parts {
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
                                  const Settings& settings, const LogFn& log, TablePool* pool,
-                                 const std::map<std::string, std::string>& attributes)
+                                 const std::map<std::string, std::string>& attributes,
+                                 const ThreadShare* share)
     : parts_(std::make_unique<Parts>()) {
   if (settings.integer_bits != 0)
     throw Error("format uint" + std::to_string(settings.integer_bits) +
@@ -94,7 +95,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
-      s.threads});
+      s.threads, share});
 }
 
 // The persistent node cache, keyed by everything the nodes depend on. An unusable cache is

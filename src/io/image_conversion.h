@@ -15,6 +15,7 @@
 #include "io/job_log.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
+#include "io/thread_share.h"
 
 namespace spectralize {
 
@@ -25,11 +26,13 @@ class ImageConversion {
   /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
   /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file.
   /// `pool`: share the spectralizer and table of a batch (and its cache) instead of building
-  /// them; `attributes`: extra string attributes for the output's header.
+  /// them; `attributes`: extra string attributes for the output's header; `share`: a batch's
+  /// cores, asked again at every call of convert().
   ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                   const std::string& format_name, bool straight_alpha, const Settings& settings,
                   const LogFn& log, TablePool* pool = nullptr,
-                  const std::map<std::string, std::string>& attributes = {});
+                  const std::map<std::string, std::string>& attributes = {},
+                  const ThreadShare* share = nullptr);
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

@@ -123,7 +123,8 @@ class Sink {
 // Memory is O(strip), not O(image). Returns (convert, write) seconds.
 std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std::string& format,
                                  const OIIO::ImageSpec& ospec, const RowsFn& convert,
-                                 const ProgressFn& progress, int threads) {
+                                 const ProgressFn& progress, int threads,
+                                 const ThreadShare* share = nullptr) {
   const OIIO::ImageSpec& spec = in.spec();
   const std::string& output = file.destination();
   const int nch = spec.nchannels, out_nch = ospec.nchannels;
@@ -170,7 +171,7 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     // --threads 1 the write runs here, so the job never keeps more than one core busy.
     if (writing.valid()) writing.get();
     t_write += seconds_since(t1);
-    if (threads == 1)
+    if ((share ? share->now() : threads) == 1)
       sink.write(y0, y1, out);
     else
       writing = std::async(std::launch::async, [&sink, y0, y1, out] { sink.write(y0, y1, out); });
@@ -197,7 +198,8 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
                           TablePool* pool, const std::map<std::string, std::string>& attributes,
-                          const std::function<void(const ImageReport&)>& before_commit) {
+                          const std::function<void(const ImageReport&)>& before_commit,
+                          const ThreadShare* share) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
@@ -206,8 +208,11 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, std::span<const std::string>(&input, 1));
   if (!pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
-  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
-                             settings, log, pool, attributes);
+  // In a batch, this file's share of its cores now (for the writer) and at every strip.
+  Settings s = settings;
+  if (share) s.threads = share->now();
+  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(), s,
+                             log, pool, attributes, share);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +
@@ -216,7 +221,7 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   auto [t_convert, t_write] = stream(
       reader, file, "openexr", conversion.output_spec(),
       [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
-      progress, settings.threads);
+      progress, s.threads, share);
   ImageReport rep = conversion.finish(log);
   rep.output = output;
   rep.mip_levels = reader.mip_levels();
@@ -336,7 +341,8 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
          " pixels exceed HALF's range (65504) and were clamped; use --format float to keep them");
   if (total.clipped > 0)
     warn("'" + output + "': " + std::to_string(total.clipped) +
-         " pixels have values outside 0..1, clipped by the integer format");
+         " pixels have values outside 0..1 by more than half a code value, clipped by the "
+         "integer format");
   rep.clipped_pixels = total.clipped;
   rep.seconds = seconds_since(t_start);
   if (before_commit) before_commit(rep);
