@@ -26,7 +26,9 @@
 #include "io/image_input.h"
 #include "io/image_job.h"
 #include "io/input_interpretation.h"
+#include "io/map_kind.h"
 #include "io/safe_output.h"
+#include "io/same_stem.h"
 #include "io/table_pool.h"
 
 namespace fs = std::filesystem;
@@ -115,7 +117,7 @@ void walk(const fs::path& dir, std::vector<Found>& out, std::size_t& not_images)
       ++not_images;
       continue;
     }
-    out.push_back({p.string(), p.parent_path().lexically_relative(dir), {}});
+    out.push_back({p.string(), p.parent_path().lexically_relative(dir), {}, {}});
   }
 }
 
@@ -170,33 +172,6 @@ std::string output_name(const std::string& pattern, const Found& f) {
   while (rel.rfind("./", 0) == 0) rel = rel.substr(2);
   if (!rel.empty() && rel[0] == '/') rel = rel.substr(1);
   return rel;
-}
-
-// A word of a file name found in a rule list, and where it ends in the name (the index of its
-// last part: name_words lists the parts, then each pair of neighbours).
-struct WordHit {
-  std::string word;
-  int end = -1;
-  explicit operator bool() const { return !word.empty(); }
-};
-
-// The longest word of the name that is in `list` ("basecolor" rather than "color").
-WordHit word_in(const std::vector<std::string>& words, const std::string& list) {
-  std::set<std::string> names;
-  for (const auto& n : OIIO::Strutil::splits(list, ",")) names.insert(n);
-  const int parts = static_cast<int>(words.size() + 1) / 2;
-  WordHit hit;
-  for (int i = 0; i < static_cast<int>(words.size()); ++i)
-    if (names.count(words[i]) && words[i].size() > hit.word.size())
-      hit = {words[i], i < parts ? i : i - parts + 1};
-  return hit;
-}
-
-// Whether `a` names the map rather than `b`: texture names put the map's kind last
-// ("metal_plate_basecolor" is a colour map of a metal plate), then the longer word.
-bool names_the_map(const WordHit& a, const WordHit& b) {
-  if (!b) return true;
-  return a.end != b.end ? a.end > b.end : a.word.size() > b.word.size();
 }
 
 // What identifies the OCIO config a batch uses, for the up-to-date key.
@@ -266,6 +241,7 @@ Json summary_json(const IngestSummary& s) {
   j["up_to_date"] = s.up_to_date;
   j["skipped_data"] = s.skipped_data;
   j["copied_data"] = s.copied_data;
+  j["derived"] = s.derived;
   j["failed"] = s.failed;
   j["pixels"] = s.pixels;
   j["stale_temporaries_removed"] = s.stale_temporaries_removed;
@@ -279,30 +255,6 @@ std::string ingest_summary_json(const IngestSummary& summary) {
   Json j = summary_json(summary)["summary"];
   j["manifest"] = summary.manifest;
   return j.dump();
-}
-
-std::vector<std::string> name_words(const std::string& stem) {
-  std::vector<std::string> parts;
-  std::string cur;
-  for (std::size_t i = 0; i < stem.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(stem[i]);
-    if (!std::isalnum(c)) {
-      if (!cur.empty()) parts.push_back(cur);
-      cur.clear();
-      continue;
-    }
-    // "BaseColor" -> "Base", "Color": a capital after a lower-case letter starts a word.
-    if (std::isupper(c) && i > 0 && std::islower(static_cast<unsigned char>(stem[i - 1])) &&
-        !cur.empty()) {
-      parts.push_back(cur);
-      cur.clear();
-    }
-    cur += static_cast<char>(std::tolower(c));
-  }
-  if (!cur.empty()) parts.push_back(cur);
-  std::vector<std::string> words = parts;
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i) words.push_back(parts[i] + parts[i + 1]);
-  return words;
 }
 
 IngestPlan plan_ingest(const IngestRequest& request) {
@@ -322,7 +274,7 @@ IngestPlan plan_ingest(const IngestRequest& request) {
                     quoted_path(src) + ": its outputs would be ingested again; choose another");
       walk(p, found, plan.not_images);
     } else if (fs::exists(fs::symlink_status(p, ec))) {
-      found.push_back({src, fs::path(), {}});  // a file given by name: checked when run
+      found.push_back({src, fs::path(), {}, {}});  // a file given by name: checked when run
     } else if (src.find_first_of("*?[") != std::string::npos) {
       // Matches mirror their folders below the pattern's fixed part ("lib/*/*.png" -> "walls/").
       fs::path fixed;
@@ -347,7 +299,7 @@ IngestPlan plan_ingest(const IngestRequest& request) {
             {src, fs::path(), {}, quoted_path(src) + ": the pattern matches no image file"});
     } else {
       // A missing file is that file's failure (recorded when run); the others carry on.
-      found.push_back({src, fs::path(), {}});
+      found.push_back({src, fs::path(), {}, {}});
     }
   }
   if (!request.inputs_from.empty()) read_list(request.inputs_from, found);
@@ -368,9 +320,29 @@ IngestPlan plan_ingest(const IngestRequest& request) {
     item.output = (fs::path(request.destination) / item.relative).string();
     by_output[item.relative].push_back(std::move(item));
   }
-  std::vector<IngestItem> all;
+  // Same-stem siblings (a.png, a.tif, a.tx): one asset when derived, else each its own name;
+  // two inputs still naming one output (two sources mirrored into one tree) fail, never a
+  // silent overwrite.
+  std::map<std::string, std::vector<IngestItem>> renamed;
   for (auto& [rel, items] : by_output) {
     if (items.size() > 1) {
+      std::vector<std::string> inputs;
+      for (const auto& i : items) inputs.push_back(i.input);
+      const std::vector<SameStemDecision> d = decide_same_stem(inputs, rel);
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        items[k].relative = d[k].relative;
+        items[k].output = (fs::path(request.destination) / d[k].relative).string();
+        items[k].derived_from = d[k].derived_from;
+        items[k].note = d[k].note;
+      }
+    }
+    for (auto& i : items) renamed[i.relative].push_back(std::move(i));
+  }
+  std::vector<IngestItem> all;
+  for (auto& [rel, items] : renamed) {
+    std::size_t writers = 0;
+    for (const auto& i : items) writers += i.derived_from.empty();
+    if (writers > 1) {
       std::string names;
       for (const auto& i : items) names += (names.empty() ? "" : ", ") + quoted_path(i.input);
       for (auto& i : items)
@@ -402,7 +374,7 @@ struct Batch {
   const IngestPlan& plan;
   const LogFn& log;
   std::string config;
-  int threads_per_job = 1;
+  ThreadShare share;  // the batch's cores, split between the files converting now
   TablePool pool;
   std::atomic<std::uint64_t> stale{0};
   std::mutex swept_mutex;
@@ -430,11 +402,16 @@ Json process(const IngestItem& item, Batch& batch) {
   };
   try {
     if (!item.failure.empty()) throw Error(item.failure);
+    if (!item.derived_from.empty()) {  // its source is converted (same_stem.h)
+      r["source"] = item.derived_from;
+      r["reason"] = item.note;
+      return finish("derived");
+    }
+    if (!item.note.empty()) r["note"] = item.note;
     check_readable_file(item.input, "input");
     struct stat st {};
     ::stat(item.input.c_str(), &st);
     Settings s = item.settings;
-    s.threads = batch.threads_per_job;
     const std::string key = ingest_key(item, st, batch.config);
     const fs::path out(item.output);
     std::error_code ec;
@@ -443,14 +420,11 @@ Json process(const IngestItem& item, Batch& batch) {
       throw Error(quoted_path(item.output) + ": cannot create the folder " +
                   quoted_path(out.parent_path().string()));
     batch.sweep(out.parent_path().string());
-    // Non-colour data by its name: never spectralized.
-    const std::vector<std::string> words = name_words(fs::path(item.input).stem().string());
-    const WordHit data = word_in(words, s.ingest.data_names);
-    const WordHit light = word_in(words, s.ingest.emission_names);
-    const WordHit surface = word_in(words, s.ingest.reflectance_names);
-    const WordHit& colour = names_the_map(light, surface) ? light : surface;
-    std::string data_reason;
-    if (data && names_the_map(data, colour)) data_reason = "data name rule '" + data.word + "'";
+    // Non-colour data by the words of its name and folders (map_kind.h): never spectralized.
+    const NameVerdict name =
+        map_kind_by_name(item.input, name_words_in_force(s.data_names, s.colour_names));
+    std::string data_reason = name.kind == MapKind::data ? "data by its " + name.reason : "";
+    if (!data_reason.empty() && !name.warnings.empty()) r["warnings"] = name.warnings;
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided.
     if (!batch.plan.request.force && data_reason.empty()) {
@@ -463,14 +437,13 @@ Json process(const IngestItem& item, Batch& batch) {
         return finish("up_to_date");
       }
     }
-    InputInterpretation in;
     if (data_reason.empty()) {
-      // Non-colour data by its colour space (a file rule, or the file's metadata).
+      // Data by an ambiguous word settled by the channels, or by a data colour space.
       ImageReader reader(item.input, static_cast<int>(s.spectral.grid.size()) + 4, true);
-      const ColourSpaces spaces = ColourSpaces::load(s.config);
-      in = interpret_input(item.input, reader.spec(), s, spaces);
-      if (spaces.is_data(in.colorspace))
-        data_reason = "colour space '" + in.colorspace + "' is data (" + in.colorspace_reason + ")";
+      const InputInterpretation in =
+          interpret_colour(item.input, reader.spec(), s, ColourSpaces::load(s.config));
+      data_reason = in.data_reason;
+      if (!data_reason.empty() && !in.warnings.empty()) r["warnings"] = in.warnings;
     }
     if (!data_reason.empty()) {
       r["reason"] = data_reason;
@@ -484,23 +457,16 @@ Json process(const IngestItem& item, Batch& batch) {
       copy_checked(item.input, copy, st);
       return finish("copied_data");
     }
-    // Mode by name rules, before the data type decides.
-    std::string mode_reason;
-    if (s.mode == ModeChoice::automatic) {
-      if (light || surface) {
-        s.mode = &colour == &light ? ModeChoice::emission : ModeChoice::reflectance;
-        mode_reason = "name rule '" + colour.word + "'";
-      }
-    }
-    std::map<std::string, std::string> recorded = {{kKeyAttribute, key},
-                                                   {"spectralize:source", item.input}};
-    if (!mode_reason.empty()) recorded["spectralize:modeReason"] = mode_reason;
-    const ImageReport rep =
-        run_image_job(item.input, item.output, s, nullptr, batch.log, &batch.pool, recorded);
+    const std::map<std::string, std::string> recorded = {{kKeyAttribute, key},
+                                                         {"spectralize:source", item.input}};
+    const ThreadShare::Running running(batch.share);
+    r["threads"] = batch.share.now();  // at its start; files finishing give theirs later
+    const ImageReport rep = run_image_job(item.input, item.output, s, nullptr, batch.log,
+                                          &batch.pool, recorded, {}, &batch.share);
     r["colorspace"] = rep.colorspace;
     r["colorspace_reason"] = rep.colorspace_reason;
     r["mode"] = std::string(to_string(rep.settings.spectral.mode));
-    r["mode_reason"] = mode_reason.empty() ? rep.mode_reason : mode_reason;
+    r["mode_reason"] = rep.mode_reason;
     r["pixels"] = rep.pixels;
     r["out_of_gamut_pixels"] = rep.out_of_gamut_pixels();
     r["invalid_pixels"] = rep.counts.invalid;
@@ -530,7 +496,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   fs::create_directories(plan.request.destination, ec);
   // The manifest's place is checked (and its temporary file made) before any work; a killed
   // earlier run's temporary manifest goes.
-  Batch batch{plan, log, config_identity(base), std::max(1, total_threads / jobs), {}, {}};
+  Batch batch{plan, log, config_identity(base), ThreadShare(total_threads), {}, {}, {}, {}};
   // The manifest's folder too (a killed run's temporary manifest), unless it is a stream.
   const fs::path manifest_path(plan.manifest);
   if (!fs::exists(manifest_path, ec) || fs::is_regular_file(manifest_path, ec))
@@ -551,6 +517,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
       if (status == "up_to_date") ++sum.up_to_date;
       if (status == "skipped_data") ++sum.skipped_data;
       if (status == "copied_data") ++sum.copied_data;
+      if (status == "derived") ++sum.derived;
       if (status == "failed") ++sum.failed;
       if (progress)
         progress(++done, plan.items.size(),
@@ -619,6 +586,7 @@ IngestSummary merge_ingest_manifests(const std::string& destination) {
       if (status == "up_to_date") ++sum.up_to_date;
       if (status == "skipped_data") ++sum.skipped_data;
       if (status == "copied_data") ++sum.copied_data;
+      if (status == "derived") ++sum.derived;
       if (status == "failed") ++sum.failed;
       text += r.dump() + "\n";
     }

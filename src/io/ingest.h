@@ -34,6 +34,8 @@ struct IngestItem {
   std::string relative;       // the output relative to the destination (mirrors the source)
   Settings settings;          // the batch's, with a list line's overrides
   std::string failure;        // set at planning (e.g. two inputs for one output)
+  std::string derived_from;   // made from this input of the batch (same_stem.h): not converted
+  std::string note;           // how planning named it (same-stem siblings)
 };
 
 struct IngestPlan {
@@ -52,13 +54,14 @@ IngestPlan plan_ingest(const IngestRequest& request);
 
 /// Counts of a batch, for the summary and the manifest's last record.
 struct IngestSummary {
-  std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, failed = 0;
+  std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, derived = 0,
+                failed = 0;
   std::uint64_t pixels = 0, stale_temporaries_removed = 0;
   double seconds = 0;
   std::string manifest;
   /// Files handled, all statuses. Cost: O(1).
   std::uint64_t files() const {
-    return converted + up_to_date + skipped_data + copied_data + failed;
+    return converted + up_to_date + skipped_data + copied_data + derived + failed;
   }
 };
 
@@ -81,10 +84,5 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
 /// manifest, "spectralize-ingest.jsonl", and returns the summary of all of them. Throws Error
 /// naming missing or malformed parts. Cost: O(records).
 IngestSummary merge_ingest_manifests(const std::string& destination);
-
-/// The words of a file name: split at non-alphanumerics and lower-to-upper case changes,
-/// lower-cased, with each pair joined too ("T_BaseColor" -> t, base, color, tbase, basecolor).
-/// Cost: O(length).
-std::vector<std::string> name_words(const std::string& stem);
 
 }  // namespace spectralize

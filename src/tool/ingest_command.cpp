@@ -51,10 +51,11 @@ void print_summary(const IngestSummary& s, bool merged) {
   const double mpx = static_cast<double>(s.pixels) / 1e6;
   fmt::print(stderr,
              "spectralize ingest: {} files{}: {} converted, {} up to date, {} data skipped, {} "
-             "data copied, {} failed; {:.1f} Mpixel in {:.1f} s ({:.2f} Mpixel/s, {:.1f} "
-             "files/s); manifest '{}'\n",
+             "data copied, {} derived from another, {} failed; {:.1f} Mpixel in {:.1f} s ({:.2f} "
+             "Mpixel/s, {:.1f} files/s); manifest '{}'\n",
              s.files(), merged ? " (all shards)" : "", s.converted, s.up_to_date, s.skipped_data,
-             s.copied_data, s.failed, mpx, s.seconds, s.seconds > 0 ? mpx / s.seconds : 0.0,
+             s.copied_data, s.derived, s.failed, mpx, s.seconds,
+             s.seconds > 0 ? mpx / s.seconds : 0.0,
              s.seconds > 0 ? static_cast<double>(s.files()) / s.seconds : 0.0, s.manifest);
 }
 
