@@ -397,7 +397,8 @@ void apply_edit(std::vector<NameWord>& words, const std::vector<EditItem>& items
     NameWord w;
     w.word = e.word;
     w.kind = e.kind;
-    w.place = e.word.size() == 1 ? P::engine : P::anywhere;
+    // A letter the user names counts as any name's last word (rock_n): the user's convention.
+    w.place = e.word.size() == 1 ? P::last : P::anywhere;
     w.meaning = std::string(colour ? "--colour-names" : "--data-names") + " word";
     words.push_back(w);
   }

@@ -50,8 +50,8 @@ std::span<const NameWord> builtin_name_words();
 std::string check_name_edit(std::string_view text, bool colour);
 
 /// The words in force: the table with the edits of --data-names and --colour-names ("" for
-/// none). Words added by a user count anywhere in a name (a letter: as an engine-style
-/// suffix). Throws Error as check_name_edit. Cost: O(table).
+/// none). Words added by a user count anywhere in a name (a letter: as the last word of
+/// any name, rock_n). Throws Error as check_name_edit. Cost: O(table).
 std::vector<NameWord> name_words_in_force(const std::string& data_edit,
                                           const std::string& colour_edit);
 

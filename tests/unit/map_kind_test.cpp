@@ -256,6 +256,11 @@ TEST(MapKind, EditsExtendReplaceOrRemoveWords) {
   EXPECT_EQ(map_kind_by_name("rock_nrm.png", words).kind, MapKind::data);
   EXPECT_EQ(map_kind_by_name("rock_roughness.png", words).kind, MapKind::none);
   EXPECT_EQ(map_kind_by_name("rock_basecolor.png", words).kind, MapKind::reflectance);
+  // A letter the user names counts as any name's last word, not only in T_ names.
+  EXPECT_EQ(map_kind_by_name("rock_n.png", name_words_in_force("", "")).kind, MapKind::none);
+  words = name_words_in_force("+n", "");
+  EXPECT_EQ(map_kind_by_name("rock_n.png", words).kind, MapKind::data);
+  EXPECT_EQ(map_kind_by_name("n_rock.png", words).kind, MapKind::none);
   // Move a word between kinds: light as an emission word anywhere.
   words = name_words_in_force("", "+light:emission");
   EXPECT_EQ(map_kind_by_name("lamp_light.exr", words).kind, MapKind::emission);
