@@ -6,7 +6,7 @@ CMAKE_FLAGS ?=
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
 .PHONY: all deps configure build test test-long demo bench install format format-check clean test-asan \
-	test-tsan fuzz figures validate docs-figures
+	test-tsan fuzz figures validate docs-figures renders docs-renders
 FUZZ_SECONDS ?= 60
 
 all: build
@@ -44,12 +44,13 @@ test-tsan: deps
 	@cmake --build build-tsan -j $(JOBS)
 	@cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/tests/tsan.supp" ctest --output-on-failure -j $(JOBS) -R "Thread|Cache|CliImage"
 
-# libFuzzer (clang) on the recipe, channel-name, --color and --wavelengths parsers, each for
-# FUZZ_SECONDS, from the seed corpus in tests/fuzz/corpus/ (new inputs go to build-fuzz/corpus/).
+# libFuzzer (clang) on the recipe, channel-name, --color and --wavelengths parsers and the
+# .spztab table loader, each for FUZZ_SECONDS, from the seed corpus in tests/fuzz/corpus/ (new
+# inputs go to build-fuzz/corpus/; the table fuzzer writes its seed tables there).
 fuzz: deps
 	@CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECTRALIZE_FUZZ=ON >/dev/null
 	@cmake --build build-fuzz -j $(JOBS)
-	@for t in recipe channel_name color wavelengths; do \
+	@for t in recipe channel_name color wavelengths table; do \
 	  mkdir -p build-fuzz/corpus/$$t; \
 	  echo "== fuzz_$$t ($(FUZZ_SECONDS) s)"; \
 	  build-fuzz/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
@@ -80,6 +81,19 @@ docs-figures: figures
 	@for f in $(BUILD_DIR)/figures/fig[2456]_*.png; do \
 	  oiiotool --nosoftwareattrib $$f --resize 256x0 -o docs/figures/$$(basename $$f); done
 
+# The spectral path tracer's measurements (JSON) and figures into $(BUILD_DIR)/renders/:
+# spectralize::rt against the dense reference and, under illuminant A, against the measured
+# ColorChecker and the Jakob & Hanika baseline (docs/RENDERERS.md). About a minute on 2 cores.
+renders: deps build
+	@bash cmake/renders.sh $(BUILD_DIR) $(BUILD_DIR)/renders
+
+# Refreshes the documents' copies in docs/figures/ (render_*.png) and the numbers in
+# docs/RENDERERS.md from make renders.
+docs-renders: renders
+	@mkdir -p docs/figures
+	@cp $(BUILD_DIR)/renders/render_*.png docs/figures/
+	@$(PYTHON) cmake/render_tables.py $(BUILD_DIR)/renders docs/RENDERERS.md
+
 bench: deps build
 	@cmake --build $(BUILD_DIR) --target benchmarks -j $(JOBS)
 	@$(BUILD_DIR)/tests/bench/bench_spectralizer --benchmark_min_time=0.5
@@ -90,7 +104,8 @@ bench: deps build
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
 
-SOURCES = $(shell find src tests oiio_plugin python -name '*.cpp' -o -name '*.h' 2>/dev/null)
+SOURCES = $(shell find src tests oiio_plugin python -name '*.cpp' -o -name '*.h' 2>/dev/null) \
+	$(shell find docs/snippets -name '*.cpp' -o -name '*.c' 2>/dev/null)
 
 format:
 	@clang-format -i $(SOURCES)

@@ -3,7 +3,8 @@
 file(GLOB_RECURSE files RELATIVE "${SOURCE_DIR}"
      "${SOURCE_DIR}/src/*.cpp" "${SOURCE_DIR}/src/*.h" "${SOURCE_DIR}/tests/*.cpp"
      "${SOURCE_DIR}/tests/*.h" "${SOURCE_DIR}/oiio_plugin/*.cpp" "${SOURCE_DIR}/oiio_plugin/*.h"
-     "${SOURCE_DIR}/python/*.cpp")
+     "${SOURCE_DIR}/python/*.cpp" "${SOURCE_DIR}/docs/snippets/*.cpp"
+     "${SOURCE_DIR}/docs/snippets/*.c")
 execute_process(COMMAND "${CLANG_FORMAT}" --dry-run --Werror ${files}
                 WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE status)
 list(LENGTH files count)

@@ -40,6 +40,12 @@ install(FILES ${PROJECT_BINARY_DIR}/generated/spectralize/version.h
 install(TARGETS spectralize_core EXPORT spectralizeTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} ${CMAKE_INSTALL_INCLUDEDIR}/spectralize)
+# The render-time evaluator: headers only (include/spectralize/rt*.h), target spectralize::rt.
+install(FILES ${PROJECT_SOURCE_DIR}/include/spectralize/rt.h
+        ${PROJECT_SOURCE_DIR}/include/spectralize/rt.hpp
+        ${PROJECT_SOURCE_DIR}/include/spectralize/rt_format.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spectralize)
+install(TARGETS spectralize_rt EXPORT spectralizeTargets)
 install(EXPORT spectralizeTargets NAMESPACE spectralize:: DESTINATION ${SPECTRALIZE_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/spectralizeConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/spectralizeConfig.cmake

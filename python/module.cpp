@@ -21,6 +21,9 @@
 #include "io/image_report.h"
 #include "io/ingest.h"
 #include "io/job_settings.h"
+#include "io/render_table.h"
+#include "io/safe_output.h"
+#include "io/shard.h"
 #include "io/table_pool.h"
 #include "py_arrays.h"
 #include "py_options.h"
@@ -40,6 +43,7 @@ const OptionScope kToRgbScope{"to_rgb", kToRgb, {"format", "compression", "tile"
 const OptionScope kConvertScope{"convert", kImage, {}, {}};
 const OptionScope kConvertRgbScope{"convert", kToRgb, {}, {}};
 const OptionScope kIngestScope{"ingest", kIngest, {}, {}};
+const OptionScope kTableScope{"table", kTable, {}, {}};
 
 // Process-wide state: the node tables (shared by every call, saved to `cache=` folders) and the
 // colour setups by their settings. Never destroyed: Python may unload modules in any order.
@@ -259,16 +263,14 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   if (request.sources.empty() && request.inputs_from.empty())
     value_error(kIngestScope, "give the files, folders or patterns to ingest (or inputs_from)");
   if (!shard.empty()) {
-    const auto slash = shard.find('/');
+    // The CLI's parser: the same values accepted and refused (io/shard.h).
     try {
-      request.shard = std::stoi(shard.substr(0, slash));
-      request.shards = std::stoi(shard.substr(slash + 1));
-    } catch (const std::exception&) {
-      request.shards = 0;
+      const ShardSpec spec = parse_shard(shard);
+      request.shard = spec.index;
+      request.shards = spec.count;
+    } catch (const Error& e) {
+      value_error(kIngestScope, std::string("shard ") + e.what());
     }
-    if (slash == std::string::npos || request.shards < 1 || request.shard < 0 ||
-        request.shard >= request.shards)
-      value_error(kIngestScope, "shard " + quote(shard) + ": expected I/N with 0 <= I < N");
   }
   try {
     request.settings = checked_ingest_settings(read_options(options, kIngestScope), kKeywordNames);
@@ -307,6 +309,44 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   return d;
 }
 
+// spectralize.table(output, **options): `spectralize table -o output`, the same bytes.
+py::dict table(const py::object& output, const py::kwargs& options) {
+  const std::string out = path_text(output, "table", "output");
+  Settings settings = read_options(options, kTableScope);
+  try {
+    settings = checked_table_settings(settings, out, kKeywordNames);
+  } catch (const Error& e) {
+    value_error(kTableScope, e.what());
+  }
+  Messages messages;
+  RenderTable made;
+  std::string failure;
+  {
+    py::gil_scoped_release release;
+    try {
+      AtomicOutput file(out, {});  // checked before the work
+      made = make_render_table(settings, messages.log());
+      file.write(made.bytes);
+      file.commit();
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  messages.emit();
+  if (!failure.empty()) os_error(failure);
+  py::dict d;
+  d["output"] = out;
+  d["colorspace"] = made.colorspace;
+  d["mode"] = std::string(to_string(settings.spectral.mode));
+  d["model"] = settings.spectral.model;
+  d["wavelengths"] = settings.spectral.grid.to_string();
+  d["bytes"] = made.bytes.size();
+  d["spectra"] = made.spectra;
+  d["boundary_cells"] = made.boundary_cells;
+  d["seconds"] = made.seconds;
+  return d;
+}
+
 py::list models() {
   py::list list;
   for (const ModelInfo& m : spectrum_models()) {
@@ -332,6 +372,7 @@ Functions:
     convert(input, output, to="spectral", **options)
                                              an image file to a spectral OpenEXR, or back
     ingest(sources, output, **options)       a texture library to spectral OpenEXR files
+    table(output, **options)                 a render-time table (.spztab) of a colour space
     models()                                 the spectrum models
 
 Options are the command-line tool's, named by their recipe keys (--emission-basis is
@@ -400,6 +441,16 @@ PYBIND11_MODULE(spectralize, m) {
          "conversions.\n\n"
          "Options:\n" +
          options_doc(kIngestScope))
+            .c_str());
+  m.def("table", &table, py::arg("output"),
+        ("table(output, **options) -> summary (dict)\n\n"
+         "The render-time table of exact spectra of a linear colour space (NAME.spztab), as\n"
+         "`spectralize table -o NAME.spztab` writes it, byte for byte, for renderers that read it\n"
+         "with spectralize/rt.h. mode='reflectance' (the default) or 'emission'. Written\n"
+         "atomically. Returns the colour space, mode, model, wavelengths, size in bytes, node\n"
+         "spectra, boundary cells and seconds. Cost: a few seconds (every node's solve).\n\n"
+         "Options:\n" +
+         options_doc(kTableScope))
             .c_str());
   m.def("models", &models,
         "models() -> list of dicts (name, summary, default): the spectrum models for model=.");

@@ -21,15 +21,25 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+/// An Error of the file system: a file that cannot be read or written (the message names it and
+/// carries the system's reason), or a destination refused because it would replace a file the
+/// run reads or writes. A job failure, never a mistake of the command line.
+class FileError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// Runs `fn`; an Error it throws comes back as an Error prefixed "<context>: " (the option or
-/// file it concerns), except a ConfigError, which passes unchanged (the config is at fault).
-/// Cost: that of fn.
+/// file it concerns), a FileError as a FileError so prefixed, except a ConfigError, which passes
+/// unchanged (the config is at fault). Cost: that of fn.
 template <class Fn>
 auto with_context(std::string_view context, Fn&& fn) {
   try {
     return fn();
   } catch (const ConfigError&) {
     throw;
+  } catch (const FileError& e) {
+    throw FileError(std::string(context) + ": " + e.what());
   } catch (const Error& e) {
     throw Error(std::string(context) + ": " + e.what());
   }

@@ -81,7 +81,9 @@ void ConvexGamut::add(const Xyz& normal, double offset) {
 }
 
 bool ConvexGamut::contains(const Xyz& t) const {
-  const double tol = 1e-12 * std::max(scale_, t.max_abs());
+  // Relative to the colour: near black both gamuts are cones (every facet there passes
+  // through black), so a dark colour a relative 1e-9 outside is as far out as a bright one.
+  const double tol = 1e-12 * t.max_abs();
   return !any_violated(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), offsets_.size(), t,
                        tol);
 }

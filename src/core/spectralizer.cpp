@@ -56,14 +56,10 @@ double chromaticity_distance(const Xyz& a, const Xyz& b) {
   return std::hypot(a.X / sa - b.X / sb, a.Y / sa - b.Y / sb);
 }
 
-// Fraction of the way back from the boundary: keeps mapped targets strictly inside, where the
-// fan of admissible triangles (locus) and the bounded projection (solid; its solutions near
-// the boundary converge slowly, found by fuzzing) are well conditioned.
-constexpr double kLocusMargin = 1e-6;
-constexpr double kSolidMargin = 1e-4;
-
-// Relative XYZ change up to which a gamut mapping counts as snapping (float input precision).
-constexpr double kSnapTolerance = 1e-6;
+// kLocusMargin, kSolidMargin (spectralizer.h): the fraction of the way back from the
+// boundary keeps mapped targets strictly inside, where the fan of admissible triangles (locus)
+// and the bounded projection (solid; its solutions near the boundary converge slowly, found by
+// fuzzing) are well conditioned. kSnapTolerance: float input precision.
 
 }  // namespace
 
@@ -157,8 +153,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   //    the colour of the flat spectrum, which every grid can.
   if (!locus_.contains(t)) {
     r.outside_locus = true;
-    Xyz white = reflectance ? weights_.unit_white() : kWhiteD65;
-    if (!locus_.contains(white)) white = basis_white_;
+    const Xyz white = mapping_white();
     move_toward(locus_, (t.Y / white.Y) * white);
     what = "outside the spectral locus: desaturated toward white at constant luminance";
   }
@@ -191,6 +186,19 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   return t;
 }
 
+Xyz Spectralizer::mapping_white() const {
+  const Xyz white = settings_.mode == Mode::reflectance ? weights_.unit_white() : kWhiteD65;
+  return locus_.contains(white) ? white : basis_white_;
+}
+
+Xyz Spectralizer::mapped_target(const Xyz& target, bool& moved, bool* outside_locus) const {
+  SpectrumResult r;
+  const Xyz t = map_into_gamut(target, r);
+  moved = r.status == Status::out_of_gamut;
+  if (outside_locus) *outside_locus = r.outside_locus;
+  return t;
+}
+
 Xyz Spectralizer::target_of(const Xyz& xyz_d65) const {
   return hadamard(xyz_d65, white_balance_);
 }
@@ -206,6 +214,30 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
   }
   SpectrumResult r = spectralize_target(target_of(xyz_d65));
   r.input = xyz_d65;
+  return r;
+}
+
+SpectrumResult Spectralizer::classify(const Xyz& xyz_d65) const {
+  SpectrumResult r;
+  r.values.assign(settings_.grid.size(), 0.0);
+  r.input = xyz_d65;
+  if (!xyz_d65.finite()) {
+    r.status = Status::invalid;
+    r.message = "colour has NaN or infinite components";
+    return r;
+  }
+  const Xyz t = target_of(xyz_d65);
+  if (t == Xyz{}) {
+    r.status = Status::black;
+    return r;
+  }
+  if (t.Y < 0) {
+    r.status = Status::invalid;
+    r.message = "colour has negative luminance (Y < 0)";
+    return r;
+  }
+  r.target = map_into_gamut(t, r);
+  if (!(r.target.Y > 0)) r.target = Xyz{};  // a colour of zero luminance maps to black
   return r;
 }
 

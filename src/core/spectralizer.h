@@ -60,6 +60,13 @@ inline Xyz balance_to_d65(const Xyz& white) {
   return {kWhiteD65.X / white.X, kWhiteD65.Y / white.Y, kWhiteD65.Z / white.Z};
 }
 
+/// Gamut mapping (docs/DESIGN.md §5): mapped targets stop this fraction of the segment short
+/// of the spectral locus / the reflectance solid; a move below kSnapTolerance (relative XYZ)
+/// is rounding, not out of gamut.
+inline constexpr double kLocusMargin = 1e-6;
+inline constexpr double kSolidMargin = 1e-4;
+inline constexpr double kSnapTolerance = 1e-6;
+
 /// The edge filter used when none is given (chosen by measurement; see README "Edge filter").
 EdgeFilter default_edge_filter();
 
@@ -113,6 +120,11 @@ class Spectralizer {
   /// throws; problems are in the status. Thread-safe. Cost: ~O(N^2 + L), tens of us at 5 nm.
   SpectrumResult spectralize(const Xyz& xyz_d65) const;
 
+  /// What spectralize() says about a colour without its spectrum: status, input, target (gamut
+  /// mapped), message, gamut distance; values all zero (for a table's spectrum of the colour).
+  /// Never throws. Cost: O(facets).
+  SpectrumResult classify(const Xyz& xyz_d65) const;
+
   /// As spectralize(), for a target already in the mode's terms (reflectance: white
   /// balanced, see target_of). Never throws. Thread-safe. Cost: as spectralize().
   SpectrumResult spectralize_target(const Xyz& target) const;
@@ -127,6 +139,19 @@ class Spectralizer {
   /// The diagonal from a spectrum's XYZ back to the input's D65 terms (the inverse of the
   /// white balance; 1 for flat emission). Cost: O(1).
   Xyz unbalance() const { return balance_to_d65(reference_white()); }
+
+  /// The gamut of the mode (emission: the locus; reflectance: the solid) and the spectral
+  /// locus, as the mapping uses them. Cost: O(1).
+  const ConvexGamut& gamut() const { return gamut_; }
+  const ConvexGamut& locus() const { return locus_; }
+  /// The white a colour outside the locus is desaturated toward, per unit Y times its Y
+  /// (reflectance: the reference white; emission: D65, or the basis' white when a narrow grid
+  /// cannot make D65). Cost: O(facets).
+  Xyz mapping_white() const;
+  /// The target a colour is mapped to (docs/DESIGN.md §5), whether it was moved (more than
+  /// rounding) and whether it was outside the spectral locus; a target inside is returned as
+  /// is. Never throws. Cost: O(facets).
+  Xyz mapped_target(const Xyz& target, bool& moved, bool* outside_locus = nullptr) const;
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }

@@ -78,6 +78,21 @@ Mat3 xyz_to_rgb_matrix(const ColourSpaces& spaces, std::string_view space) {
   return matrix_of(spaces.from_xyz(space), space);
 }
 
+namespace {
+
+// Display sRGB of XYZ pixels (3 floats each, converted in place), clipped, in a float buffer.
+OIIO::ImageBuf display_buffer(int width, int height, std::vector<float>& pixels,
+                              const ColourSpaces& spaces) {
+  spaces.from_xyz("sRGB - Texture").apply(pixels.data(), pixels.size() / 3);
+  for (float& p : pixels) p = std::isfinite(p) ? std::clamp(p, 0.0f, 1.0f) : 0.0f;
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  buf.set_pixels(OIIO::ROI(0, width, 0, height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pixels.data());
+  return buf;
+}
+
+}  // namespace
+
 void write_sphere_png(const std::string& path, const SphereGeometry& g, const std::vector<Xyz>& xyz,
                       const SphereView& view, const ColourSpaces& spaces) {
   const int size = g.size;
@@ -89,12 +104,7 @@ void write_sphere_png(const std::string& path, const SphereGeometry& g, const st
     pixels[3 * i + 1] = static_cast<float>(v.Y);
     pixels[3 * i + 2] = static_cast<float>(v.Z);
   }
-  spaces.from_xyz("sRGB - Texture").apply(pixels.data(), xyz.size());
-  for (float& p : pixels) p = std::isfinite(p) ? std::clamp(p, 0.0f, 1.0f) : 0.0f;
-
-  OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf buf(spec);
-  buf.set_pixels(OIIO::ROI(0, size, 0, size, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, pixels.data());
+  OIIO::ImageBuf buf = display_buffer(size, size, pixels, spaces);
   const std::string font = find_font();
   const int text = std::max(10, size / 28);
   draw_text(buf, size / 4, text + 6, view.left_label, text, font, 0.8f, TextAlignX::Center);
@@ -102,9 +112,38 @@ void write_sphere_png(const std::string& path, const SphereGeometry& g, const st
   write_png(buf, path);
 }
 
+void write_xyz_png(const std::string& path, int width, int height, const std::vector<Xyz>& xyz,
+                   double exposure, const ColourSpaces& spaces, const std::string& label) {
+  if (xyz.size() != static_cast<std::size_t>(width) * height)
+    throw Error("'" + path + "': " + std::to_string(xyz.size()) + " pixels for a " +
+                std::to_string(width) + " x " + std::to_string(height) + " image");
+  std::vector<float> pixels(xyz.size() * 3);
+  for (std::size_t i = 0; i < xyz.size(); ++i) {
+    const Xyz v = exposure * xyz[i];
+    pixels[3 * i] = static_cast<float>(v.X);
+    pixels[3 * i + 1] = static_cast<float>(v.Y);
+    pixels[3 * i + 2] = static_cast<float>(v.Z);
+  }
+  OIIO::ImageBuf buf = display_buffer(width, height, pixels, spaces);
+  const int text = std::max(10, std::min(width, height) / 16);
+  draw_text(buf, 4, text + 2, label, text, find_font(), 0.9f);
+  write_png(buf, path);
+}
+
 void write_delta_e_png(const std::string& path, const SphereGeometry& g, const MirrorDifference& d,
                        double scale, const std::string& caption) {
-  const int size = g.size;
+  std::vector<bool> covered(g.coverage.size());
+  for (std::size_t i = 0; i < covered.size(); ++i) covered[i] = g.coverage[i] != 0;
+  write_delta_e_map_png(path, g.size, d.delta_e, covered, scale, caption);
+}
+
+void write_delta_e_map_png(const std::string& path, int size, const std::vector<double>& delta_e,
+                           const std::vector<bool>& covered, double scale,
+                           const std::string& caption) {
+  const std::size_t pixels = static_cast<std::size_t>(size) * size;
+  if (delta_e.size() != pixels || covered.size() != pixels)
+    throw Error("'" + path + "': the difference map is not " + std::to_string(size) + " x " +
+                std::to_string(size));
   const int height = delta_e_map_height(size);
   OIIO::ImageSpec spec(size, height, 3, OIIO::TypeDesc::FLOAT);
   OIIO::ImageBuf buf(spec);
@@ -113,8 +152,8 @@ void write_delta_e_png(const std::string& path, const SphereGeometry& g, const M
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * size + x;
-      if (g.coverage[i] == 0) continue;
-      const auto c = ramp(d.delta_e[i] / scale);
+      if (!covered[i]) continue;
+      const auto c = ramp(delta_e[i] / scale);
       buf.setpixel(x, y, c.data(), 3);
     }
   // The colour bar under the map, with its ends and middle labelled.

@@ -35,6 +35,19 @@ void write_sphere_png(const std::string& path, const SphereGeometry& geometry,
                       const std::vector<Xyz>& xyz, const SphereView& view,
                       const ColourSpaces& spaces);
 
+/// Writes a width x height XYZ image (row-major from the top) times `exposure` as display sRGB
+/// (OCIO 'sRGB - Texture', clipped) 8-bit PNG with `label` at the top left (skipped without a
+/// font), through a temporary file. Throws Error naming `path`. Cost: O(pixels) + PNG encode.
+void write_xyz_png(const std::string& path, int width, int height, const std::vector<Xyz>& xyz,
+                   double exposure, const ColourSpaces& spaces, const std::string& label = "");
+
+/// Writes a per-pixel CIEDE2000 map (size x size, row-major; pixels whose `covered` is false
+/// grey) as a heat map with a colour bar and `caption` below, as write_delta_e_png. Throws Error
+/// naming `path`. Cost: O(size^2).
+void write_delta_e_map_png(const std::string& path, int size, const std::vector<double>& delta_e,
+                           const std::vector<bool>& covered, double scale,
+                           const std::string& caption);
+
 /// Writes the per-pixel CIEDE2000 of a mirror comparison as a heat map (0 black .. `scale`
 /// white-yellow, off-sphere grey) with a colour bar and `caption` below: size x (size + 80)
 /// pixels, 8-bit PNG via a temporary file. Throws Error naming `path`. Cost: O(size^2).

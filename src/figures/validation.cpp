@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/exemplar_model.h"
 #include "core/sample_weights.h"
+#include "core/spectral_table.h"
 #include "core/spectrum_model.h"
 #include "figures/reference_rows.h"
 
@@ -236,6 +237,37 @@ class ModelReconstruction final : public Reconstruction {
   Spectralizer sp_;
 };
 
+// A registered model through the render-time table of the space (docs/DESIGN.md §14): the
+// blend of the cell's node spectra that images, --color and a renderer's table file give,
+// in the frame of the space's primaries (its linear RGB -> XYZ, read off the transform).
+class TableReconstruction final : public Reconstruction {
+ public:
+  TableReconstruction(const SpectralizerSettings& settings, const RowContext& context)
+      : sp_(settings), table_(sp_, SpectralTable::Method::table, frame_of(*context.to_xyz)) {}
+  Reconstructed reconstruct(std::size_t, std::size_t, const std::array<double, 3>&,
+                            const Xyz& xyz_d65) const override {
+    std::vector<float> values(sp_.settings().grid.size());
+    PixelResult pixel;
+    table_.spectra(&xyz_d65, 1, values.data(), &pixel);
+    const Status status = pixel.kind == PixelKind::in_gamut ? Status::ok
+                          : pixel.kind == PixelKind::black  ? Status::black
+                                                            : Status::out_of_gamut;
+    return {std::vector<double>(values.begin(), values.end()), std::string(to_string(status))};
+  }
+
+ private:
+  static Mat3 frame_of(const ColourTransform& to_xyz) {
+    Mat3 m{};
+    for (int c = 0; c < 3; ++c) {
+      const Xyz col = to_xyz(c == 0, c == 1, c == 2);
+      m[c] = col.X, m[3 + c] = col.Y, m[6 + c] = col.Z;
+    }
+    return m;
+  }
+  Spectralizer sp_;
+  mutable SpectralTable table_;  // builds its cells on first use
+};
+
 // The exemplar model, cross-validated: its exemplars are the development sets, so each set is
 // scored with the other set as the library (else every patch would find its own measurement).
 // Built on the protocol's weights; the patches' colours are inside the solid, as the model
@@ -285,6 +317,15 @@ ValidationConfig model_row(std::string name, std::string model, EdgeFilter filte
   return c;
 }
 
+ValidationConfig table_row(std::string name, std::string model) {
+  ValidationConfig c{std::move(name), model, default_edge_filter(), true, {}};
+  c.make = [model](const RowContext& context) -> std::unique_ptr<Reconstruction> {
+    return std::make_unique<TableReconstruction>(
+        model_settings(model, default_edge_filter(), Mode::reflectance), context);
+  };
+  return c;
+}
+
 ValidationConfig exemplar_row(std::string name) {
   ValidationConfig c{std::move(name), "exemplar", default_edge_filter(), true, {}};
   c.make = [](const RowContext& context) -> std::unique_ptr<Reconstruction> {
@@ -309,6 +350,7 @@ std::vector<ValidationConfig> validation_configs() {
       model_row("paper, filter 0.9", "paper", EdgeFilter::parse("0.9")),
       model_row("smooth" + std::string(tag("smooth")), "smooth", default_edge_filter()),
       model_row("natural" + std::string(tag("natural")), "natural", default_edge_filter()),
+      table_row("natural, render-time table", "natural"),
       exemplar_row(std::string("exemplar") + (def == "exemplar" ? " (default;" : " (") +
                    " cross-validated: each set with the other's exemplars)")};
   for (ValidationConfig& r : reference_rows()) rows.push_back(std::move(r));

@@ -68,7 +68,8 @@ struct ValidationConfig {
 };
 
 /// The rows: the paper model with the default filter and two fixed ones, the smooth and the
-/// natural model (the default model's row says "(default)"), then the reference lines
+/// natural model (the default model's row says "(default)"), the natural model through the
+/// render-time table (docs/DESIGN.md §14), the exemplar model, then the reference lines
 /// (reference_rows.h). Cost: O(1).
 std::vector<ValidationConfig> validation_configs();
 

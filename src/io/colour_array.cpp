@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "io/input_interpretation.h"
+#include "io/render_table.h"
 #include "io/spectral_image_layout.h"
 
 namespace spectralize {
@@ -26,7 +27,7 @@ ColourArrays::ColourArrays(const Settings& settings, TablePool& pool, const LogF
     : spaces_(ColourSpaces::load(settings.config)) {
   settings_ = resolved(settings, spaces_);
   to_xyz_ = spaces_.to_xyz(settings_.colorspace);
-  entry_ = &pool.get(settings_, log);
+  entry_ = &pool.get(settings_, table_frame(spaces_, settings_.colorspace), log);
 }
 
 PixelCounts ColourArrays::spectra(const float* rgb, std::size_t n, float* out) const {

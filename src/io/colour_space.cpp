@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
@@ -91,22 +94,25 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
   ColourSpaces cs;
   ConfigPtr config;
   std::string where;
+  // A value that names no file (a mistake of the command line, not of a config).
+  if (explicit_path.rfind("ocio://", 0) == 0)
+    throw Error(
+        "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this build uses "
+        "OpenColorIO " +
+        std::string(OCIO::GetVersion()) + ": give the path of a config file");
   try {
     if (!explicit_path.empty()) {
       where = explicit_path;
-      if (explicit_path.rfind("ocio://", 0) == 0)
-        throw Error(
-            "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this build "
-            "uses OpenColorIO " +
-            std::string(OCIO::GetVersion()) + ": give the path of a config file");
       check_readable_file(explicit_path, "OCIO config");
       config = OCIO::Config::CreateFromFile(explicit_path.c_str());
       cs.origin_ = explicit_path;
+      cs.file_ = explicit_path;
     } else if (const char* env = std::getenv("OCIO"); env && *env) {
       where = std::string("$OCIO=") + env;
       check_readable_file(env, "$OCIO");
       config = OCIO::Config::CreateFromFile(env);
       cs.origin_ = where;
+      cs.file_ = env;
     } else {
       where = "the shipped config";
       std::istringstream text{std::string(embedded::kOcioConfig)};
@@ -115,15 +121,101 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
     }
     config->validate();
   } catch (const OCIO::Exception& e) {
-    throw Error("OCIO config '" + where + "': " + clip(e.what(), 300));
+    throw ConfigError("OCIO config '" + where + "': " + clip(e.what(), 300));
   } catch (const Error& e) {  // not a readable regular file, or a built-in config
     const std::string why = e.what();
     const std::size_t at = why.find("): ");
-    throw Error("OCIO config '" + where +
-                "': " + (at == std::string::npos ? why : why.substr(at + 3)));
+    throw ConfigError("OCIO config '" + where +
+                      "': " + (at == std::string::npos ? why : why.substr(at + 3)));
   }
   cs.config_ = std::make_shared<const ConfigPtr>(config);
+  // What its transforms read is read by the run too: never an output of it.
+  for (const auto& [src, resolved] : cs.referenced_files())
+    if (!resolved.empty()) protect_input(resolved, "a file of the OCIO config");
   return cs;
+}
+
+namespace {
+
+// The sources of the FileTransforms in `t`, groups included.
+void collect_file_sources(const OCIO::ConstTransformRcPtr& t, std::set<std::string>& out) {
+  if (!t) return;
+  if (auto group = std::dynamic_pointer_cast<const OCIO::GroupTransform>(t)) {
+    for (int i = 0; i < group->getNumTransforms(); ++i)
+      collect_file_sources(group->getTransform(i), out);
+  } else if (auto file = std::dynamic_pointer_cast<const OCIO::FileTransform>(t)) {
+    if (file->getSrc() && *file->getSrc()) out.insert(file->getSrc());
+  }
+}
+
+std::uint64_t fnv1a(std::string_view s, std::uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream text;
+  text << f.rdbuf();
+  return f ? text.str() : std::string("(unreadable)");
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> ColourSpaces::referenced_files() const {
+  const ConfigPtr& config = config_of(config_);
+  std::set<std::string> sources;
+  const int spaces =
+      config->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL);
+  for (int i = 0; i < spaces; ++i) {
+    auto cs = config->getColorSpace(config->getColorSpaceNameByIndex(
+        OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL, i));
+    if (!cs) continue;
+    collect_file_sources(cs->getTransform(OCIO::COLORSPACE_DIR_TO_REFERENCE), sources);
+    collect_file_sources(cs->getTransform(OCIO::COLORSPACE_DIR_FROM_REFERENCE), sources);
+  }
+  for (int i = 0; i < config->getNumLooks(); ++i) {
+    auto look = config->getLook(config->getLookNameByIndex(i));
+    if (!look) continue;
+    collect_file_sources(look->getTransform(), sources);
+    collect_file_sources(look->getInverseTransform(), sources);
+  }
+  for (int i = 0; i < config->getNumViewTransforms(); ++i) {
+    auto vt = config->getViewTransform(config->getViewTransformNameByIndex(i));
+    if (!vt) continue;
+    collect_file_sources(vt->getTransform(OCIO::VIEWTRANSFORM_DIR_TO_REFERENCE), sources);
+    collect_file_sources(vt->getTransform(OCIO::VIEWTRANSFORM_DIR_FROM_REFERENCE), sources);
+  }
+  for (int i = 0; i < config->getNumNamedTransforms(OCIO::NAMEDTRANSFORM_ALL); ++i) {
+    auto nt = config->getNamedTransform(
+        config->getNamedTransformNameByIndex(OCIO::NAMEDTRANSFORM_ALL, i));
+    if (!nt) continue;
+    collect_file_sources(nt->getTransform(OCIO::TRANSFORM_DIR_FORWARD), sources);
+    collect_file_sources(nt->getTransform(OCIO::TRANSFORM_DIR_INVERSE), sources);
+  }
+  std::vector<std::pair<std::string, std::string>> out;
+  auto context = config->getCurrentContext();
+  for (const std::string& src : sources) {
+    std::string resolved;
+    try {
+      resolved = context->resolveFileLocation(src.c_str());
+    } catch (const OCIO::Exception&) {
+      // Not found: the transforms that need it fail when used, naming it.
+    }
+    out.emplace_back(src, resolved);
+  }
+  return out;
+}
+
+std::string ColourSpaces::content_identity() const {
+  std::uint64_t h = fnv1a(file_.empty() ? std::string(embedded::kOcioConfig) : file_bytes(file_));
+  for (const auto& [src, resolved] : referenced_files()) {
+    h = fnv1a(src + '\0', h);
+    h = fnv1a(resolved.empty() ? std::string("(not found)") : file_bytes(resolved), h);
+  }
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
 }
 
 std::string ColourSpaces::resolve(std::string_view name) const {

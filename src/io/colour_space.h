@@ -44,6 +44,13 @@ class ColourSpaces {
   const std::string& origin() const { return origin_; }
   /// True for the config shipped with spectralize. Cost: O(1).
   bool shipped() const { return origin_ == "shipped"; }
+  /// The files the config's transforms read (FileTransform LUTs: as written, and where the
+  /// config's search path finds them, "" when it does not). Cost: a walk of every transform.
+  std::vector<std::pair<std::string, std::string>> referenced_files() const;
+  /// What the config is, by content: a hash of the config file's bytes and of every file its
+  /// transforms read, so that one config reached by a relative path, an absolute path or a link
+  /// (or copied to another machine) is the same config. Cost: reading those files.
+  std::string content_identity() const;
   /// The canonical name of the space a role names, or "" when the config has no such role.
   /// Cost: O(1).
   std::string role(std::string_view role) const;
@@ -107,6 +114,7 @@ class ColourSpaces {
   ColourTransform transform(std::string_view space, bool to_xyz) const;
   std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
   std::string origin_;
+  std::string file_;  // the config file ("" : the shipped one)
 };
 
 /// Chromaticities that are the same primaries: the largest difference in CIE xy of any of the

@@ -15,8 +15,11 @@ namespace {
 enum class Parse { complete, incomplete, malformed };
 
 // Parses "magic version (name\0 type\0 size value)* \0" from the first `got` bytes of `b`.
+// Also records where each attribute's value lies (`extents`) and the double-typed ones.
 Parse parse_header(const std::vector<char>& b, std::size_t got,
-                   std::map<std::string, std::string>& out) {
+                   std::map<std::string, std::string>& out,
+                   std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
+                   std::map<std::string, double>* doubles) {
   const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
   if (got < 8) return Parse::incomplete;
   if (std::memcmp(b.data(), magic, 4) != 0) return Parse::malformed;
@@ -42,6 +45,12 @@ Parse parse_header(const std::vector<char>& b, std::size_t got,
     at += 4;
     if (size > got - at) return Parse::incomplete;
     if (type == "string") out[name] = std::string(b.data() + at, size);
+    if (type == "double" && size == 8 && doubles) {
+      double v;
+      std::memcpy(&v, b.data() + at, 8);  // little-endian, as OpenEXR stores it
+      (*doubles)[name] = v;
+    }
+    if (extents) (*extents)[name] = {at, size};
     at += size;
   }
   return Parse::incomplete;
@@ -49,11 +58,14 @@ Parse parse_header(const std::vector<char>& b, std::size_t got,
 
 }  // namespace
 
-std::map<std::string, std::string> exr_string_attributes(const std::string& path) {
-  std::map<std::string, std::string> out;
+namespace {
+
+// Reads the header of `path` (64 KB, more only if it goes on, up to 1 MB) and parses it.
+bool read_header(const std::string& path, std::map<std::string, std::string>& out,
+                 std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
+                 std::map<std::string, double>* doubles = nullptr) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return out;
-  // Headers are a few KB: read 64 KB, more only if the header goes on (up to 1 MB).
+  if (fd < 0) return false;
   std::vector<char> b;
   std::size_t got = 0;
   bool complete = false;
@@ -65,13 +77,41 @@ std::map<std::string, std::string> exr_string_attributes(const std::string& path
       got += static_cast<std::size_t>(n);
     }
     out.clear();
-    const Parse p = parse_header(b, got, out);
+    if (extents) extents->clear();
+    if (doubles) doubles->clear();
+    const Parse p = parse_header(b, got, out, extents, doubles);
     complete = p == Parse::complete;
     if (complete || p == Parse::malformed || got < size) break;  // done, garbage, or cut short
   }
   ::close(fd);
-  if (!complete) out.clear();
+  if (!complete) {
+    out.clear();
+    if (extents) extents->clear();
+    if (doubles) doubles->clear();
+  }
+  return complete;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> exr_string_attributes(const std::string& path) {
+  std::map<std::string, std::string> out;
+  read_header(path, out, nullptr);
   return out;
+}
+
+ExrHeaderValues exr_header_values(const std::string& path) {
+  ExrHeaderValues v;
+  read_header(path, v.strings, nullptr, &v.doubles);
+  return v;
+}
+
+std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> exr_attribute_extents(
+    const std::string& path) {
+  std::map<std::string, std::string> values;
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> extents;
+  read_header(path, values, &extents);
+  return extents;
 }
 
 }  // namespace spectralize

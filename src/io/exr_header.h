@@ -3,8 +3,10 @@
 // ingest needs to tell in microseconds whether an output is up to date (OIIO's full open costs
 // far more). Bounds-checked: a truncated or foreign file gives an empty map, never a crash.
 
+#include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 
 namespace spectralize {
 
@@ -12,5 +14,17 @@ namespace spectralize {
 /// empty if the file is missing, not OpenEXR, multi-part or malformed. Reads at most 1 MB.
 /// Cost: one open and read of the header, ~10-50 us.
 std::map<std::string, std::string> exr_string_attributes(const std::string& path);
+
+/// The string and double attributes of the header, as exr_string_attributes reads them.
+struct ExrHeaderValues {
+  std::map<std::string, std::string> strings;
+  std::map<std::string, double> doubles;
+};
+ExrHeaderValues exr_header_values(const std::string& path);
+
+/// Where the value of each attribute (any type) lies in the OpenEXR file at `path`: name ->
+/// (byte offset, size); empty when the header is unreadable. Cost: as exr_string_attributes.
+std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> exr_attribute_extents(
+    const std::string& path);
 
 }  // namespace spectralize

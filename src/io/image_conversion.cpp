@@ -1,11 +1,15 @@
 #include "io/image_conversion.h"
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
+#include "io/json_text.h"
 #include "io/output_metadata.h"
+#include "io/render_table.h"
 #include "io/spectral_converter.h"
 #include "io/spectral_image_layout.h"
 #include "io/table_cache.h"
@@ -27,9 +31,8 @@ struct ImageConversion::Parts {
 
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
-                                 const Settings& settings, const LogFn& log, TablePool* pool,
-                                 const std::map<std::string, std::string>& attributes,
-                                 const ThreadShare* share)
+                                 const Settings& settings, const LogFn& log,
+                                 const ConversionContext& context)
     : parts_(std::make_unique<Parts>()) {
   if (settings.integer_bits != 0)
     throw Error("format uint" + std::to_string(settings.integer_bits) +
@@ -44,17 +47,24 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.width = spec.width;
   rep.height = spec.height;
   rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
-  rep.settings = settings;
-  const ColourSpaces spaces = ColourSpaces::load(settings.config);
-  const InputInterpretation in = interpret_input(input, spec, settings, spaces);
+  // The batch's config and decision where it has them: one parse per batch, and the file is
+  // converted exactly as it was decided (and keyed) by the caller.
+  std::optional<ColourSpaces> own_spaces;
+  if (!context.spaces) own_spaces = ColourSpaces::load(settings.config);
+  const ColourSpaces& spaces = context.spaces ? *context.spaces : *own_spaces;
+  const InputInterpretation in = context.interpretation
+                                     ? *context.interpretation
+                                     : interpret_input(input, spec, settings, spaces);
   for (const std::string& w : in.warnings) warn(w);
   rep.colorspace = in.colorspace;
   rep.colorspace_reason = in.colorspace_reason;
   rep.mode_reason = in.mode_reason;
   rep.alpha = in.channels.alpha >= 0;
   rep.straight_alpha = straight_alpha;
+  // Mode, colour space and preview space as decided for this file: what the header records.
+  rep.settings = resolved_settings(settings, in, spaces);
   Settings& s = rep.settings;
-  s.spectral.mode = in.mode;
+  rep.preview_colorspace = s.preview_colorspace;
   rep.bands = static_cast<int>(s.spectral.grid.size());
   log(1, "'" + input + "': " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
              ", " + std::to_string(spec.nchannels) + " channels, " + spec.format.c_str() + " (" +
@@ -62,8 +72,9 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
              "); mode " + std::string(to_string(in.mode)) + " (" + in.mode_reason + ")");
 
   Parts& p = *parts_;
-  if (pool) {
-    TablePool::Entry& e = pool->get(s, log);
+  const Mat3 frame = table_frame(spaces, in.colorspace);
+  if (TablePool* pool = context.pool) {
+    TablePool::Entry& e = pool->get(s, frame, log);
     p.spectralizer = e.spectralizer.get();
     p.table = e.table.get();
     p.shared = true;
@@ -71,7 +82,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
     rep.cache_status = e.cache_status;
   } else {
     p.own_spectralizer = std::make_unique<Spectralizer>(s.spectral);
-    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method);
+    p.own_table = std::make_unique<SpectralTable>(*p.own_spectralizer, s.method, frame);
     p.spectralizer = p.own_spectralizer.get();
     p.table = p.own_table.get();
     load_cache(log, warn);
@@ -82,20 +93,27 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   std::string date_warning;
   const std::string date_time = output_date_time(date_warning);
   if (!date_warning.empty()) warn(date_warning);
-  rep.preview_colorspace = s.preview_colorspace.empty() ? default_colour_space(spaces, true).first
-                                                        : spaces.resolve(s.preview_colorspace);
   // Why this colour space and mode, so that whoever reads the file (and an ingest rerun that
   // skips it) can tell; attributes given by the caller come after and win.
   std::map<std::string, std::string> recorded = {
       {"spectralize:colorspaceReason", in.colorspace_reason},
       {"spectralize:modeReason", in.mode_reason}};
-  for (const auto& [name, value] : attributes) recorded[name] = value;
-  p.layout = spectral_exr_layout(
-      {spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces, date_time, recorded});
+  std::vector<std::pair<std::string, double>> numbers;
+  if (context.record_in_header) {
+    nlohmann::ordered_json known = nlohmann::ordered_json::array();
+    for (const std::string& w : rep.warnings) known.push_back(utf8_escaped(w));
+    recorded[kWarningsAttribute] = dump_json(known);
+    for (const auto& [name, value] : count_attributes(PixelCounts{}))
+      numbers.emplace_back("spectralize:" + name, value);
+  }
+  if (context.attributes)
+    for (const auto& [name, value] : context.attributes(s)) recorded[name] = value;
+  p.layout = spectral_exr_layout({spec, rep.alpha, s, in.colorspace, rep.preview_colorspace, spaces,
+                                  date_time, recorded, numbers});
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
-      s.threads, share});
+      s.threads, context.share});
 }
 
 // The persistent node cache, keyed by everything the nodes depend on. An unusable cache is
@@ -127,6 +145,22 @@ void ImageConversion::load_cache(const LogFn& log,
 }
 
 ImageConversion::~ImageConversion() = default;
+
+std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
+                                           const std::map<std::string, double>& doubles,
+                                           const std::string& input) {
+  std::vector<std::string> out;
+  if (auto it = strings.find(kWarningsAttribute); it != strings.end()) {
+    const auto j = nlohmann::ordered_json::parse(it->second, nullptr, false);
+    if (j.is_array())
+      for (const auto& w : j)
+        if (w.is_string()) out.push_back(w.get<std::string>());
+  }
+  for (const std::string& w : count_warnings(counts_from_attributes(doubles), "'" + input + "'",
+                                             "pixels", OptionNames{"--", "-o"}))
+    out.push_back(w);
+  return out;
+}
 
 const OIIO::ImageSpec& ImageConversion::output_spec() const {
   return parts_->layout->spec();

@@ -10,8 +10,11 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "io/colour_space.h"
 #include "io/image_report.h"
+#include "io/input_interpretation.h"
 #include "io/job_log.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
@@ -19,20 +22,47 @@
 
 namespace spectralize {
 
+/// More string attributes for an output's header, made from the settings as resolved for the
+/// file (e.g. ingest's up-to-date key).
+using HeaderAttributes =
+    std::function<std::map<std::string, std::string>(const Settings& resolved)>;
+
+/// What a conversion may share with others (a batch's) instead of making its own.
+struct ConversionContext {
+  TablePool* pool = nullptr;                            // spectralizers, tables and the cache
+  const ColourSpaces* spaces = nullptr;                 // the config, parsed once
+  const InputInterpretation* interpretation = nullptr;  // the input, decided by the caller
+  const ThreadShare* share = nullptr;  // a batch's cores: its share, asked at every convert()
+  HeaderAttributes attributes;         // more header attributes (they win over the conversion's)
+  // A file job's: the header records the warnings known before the pixels
+  // (kWarningsAttribute) and room for the counts (count_attributes, zero until the job fills
+  // them in at the end: fixed-size doubles, so nothing moves).
+  bool record_in_header = false;
+};
+
+/// The header attribute that holds the warnings the conversion knew before its pixels (the
+/// input's interpretation), as a JSON array of strings; with the recorded counts
+/// (count_attributes) they give the conversion's warnings (recorded_warnings). Cost: O(1).
+inline constexpr const char* kWarningsAttribute = "spectralize:warnings";
+
+/// The warnings of the conversion that made a file, from its header's string and double
+/// attributes: those recorded before its pixels, then count_warnings of its recorded counts
+/// (about `input`, as the conversion words them). Cost: O(attributes).
+std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
+                                           const std::map<std::string, double>& doubles,
+                                           const std::string& input);
+
 class ImageConversion {
  public:
   /// Interprets an input of `spec` (channels, colour space, mode, each with its reason; file
   /// rules need `input`'s name), builds the spectralizer and table (loading the cache of
   /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
-  /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file.
-  /// `pool`: share the spectralizer and table of a batch (and its cache) instead of building
-  /// them; `attributes`: extra string attributes for the output's header; `share`: a batch's
-  /// cores, asked again at every call of convert().
+  /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file,
+  /// plus parsing the config and deciding the input unless `context` gives them (an
+  /// interpretation given must be interpret_input's for this input and settings).
   ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
                   const std::string& format_name, bool straight_alpha, const Settings& settings,
-                  const LogFn& log, TablePool* pool = nullptr,
-                  const std::map<std::string, std::string>& attributes = {},
-                  const ThreadShare* share = nullptr);
+                  const LogFn& log, const ConversionContext& context = {});
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

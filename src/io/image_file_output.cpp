@@ -15,9 +15,9 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
   auto writer = OIIO::ImageOutput::create(path);
   if (!writer) {
     (void)OIIO::geterror();
-    throw Error("'" + clip(path, 200) + "': OpenImageIO cannot write this file type");
+    throw Error(quote(path, 200) + ": OpenImageIO cannot write this file type");
   }
-  AtomicOutput file(path, inputs);
+  AtomicOutput file(path, WriteRules::named("the image"), inputs);
   OIIO::ImageSpec spec = image.spec();
   spec.set_format(type);
   // Through the checked proxy for the formats whose writers are known to use it correctly
@@ -28,9 +28,10 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
       format == "openexr" || format == "png" || format == "jpeg" || format == "hdr";
   const bool proxied = proxy_ok && writer->supports("ioproxy") && writer->set_ioproxy(file.proxy());
   if (!writer->open(proxied ? path : file.path(), spec) || !image.write(writer.get()) ||
-      !writer->close())
-    throw Error("'" + clip(path, 200) + "': cannot write: " + writer->geterror() +
-                image.geterror());
+      !writer->close()) {
+    const int err = errno;
+    file.fail(quote(path, 200) + ": cannot write: " + writer->geterror() + image.geterror(), err);
+  }
   // Read the whole file back: a writer can report success and still leave an unreadable file.
   file.check();
   auto back = OIIO::ImageInput::create(format);
@@ -41,7 +42,7 @@ void write_image_file(const OIIO::ImageBuf& image, const std::string& path, OIIO
     pixels.resize(static_cast<std::size_t>(back->spec().image_pixels()) * back->spec().nchannels);
   if (!back || back->spec().width != spec.width || back->spec().height != spec.height ||
       !back->read_image(0, 0, 0, back->spec().nchannels, OIIO::TypeFloat, pixels.data()))
-    throw Error("'" + clip(path, 200) + "': the written file does not read back: " +
+    throw Error(quote(path, 200) + ": the written file does not read back: " +
                 (back ? back->geterror() : OIIO::geterror()));
   back->close();
   file.commit();

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "io/colour_space.h"
 #include "io/colour_tags.h"
+#include "io/exr_header.h"
 #include "io/exr_scanline_writer.h"
 #include "io/image_conversion.h"
 #include "io/image_file_output.h"
@@ -88,27 +89,44 @@ class Sink {
   /// Rows [y0, y1) of the data window, relative to its top. Thread: one at a time, in order.
   void write(int y0, int y1, const void* data) {
     const OIIO::ImageSpec& s = ospec_;
-    if (exr_) {
-      exr_->write(s.y + y0, y1 - y0, data);
-    } else {
-      const bool ok =
-          tiled_ ? writer_->write_tiles(s.x, s.x + s.width, s.y + y0, s.y + y1, 0, 1, type_, data)
-                 : writer_->write_scanlines(s.y + y0, s.y + y1, 0, type_, data);
-      if (!ok) throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
-    }
+    with_system_reason([&] {
+      if (exr_) {
+        exr_->write(s.y + y0, y1 - y0, data);
+      } else {
+        const bool ok =
+            tiled_ ? writer_->write_tiles(s.x, s.x + s.width, s.y + y0, s.y + y1, 0, 1, type_, data)
+                   : writer_->write_scanlines(s.y + y0, s.y + y1, 0, type_, data);
+        if (!ok) throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+      }
+    });
     file_.check();
   }
 
   /// Completes the file. Cost: the writer's close.
   void close() {
-    if (exr_) {
-      exr_->close();
-    } else if (!writer_->close()) {
-      throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
-    }
+    with_system_reason([&] {
+      if (exr_) {
+        exr_->close();
+      } else if (!writer_->close()) {
+        throw Error("'" + file_.destination() + "': write failed: " + writer_->geterror());
+      }
+    });
   }
 
  private:
+  // A writer's failure after a write the system refused is reported with the system's reason
+  // ("No space left on device"), not the writer's words for it.
+  template <class Fn>
+  void with_system_reason(Fn&& fn) {
+    try {
+      fn();
+    } catch (const FileError&) {
+      throw;
+    } catch (const Error& e) {
+      file_.fail(e.what(), errno);
+    }
+  }
+
   AtomicOutput& file_;
   const OIIO::ImageSpec& ospec_;
   bool tiled_;
@@ -128,7 +146,16 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   const OIIO::ImageSpec& spec = in.spec();
   const std::string& output = file.destination();
   const int nch = spec.nchannels, out_nch = ospec.nchannels;
-  Sink sink(format, ospec, file, threads);
+  // A writer that cannot even start (its header refused by a full disk) says why, too.
+  std::unique_ptr<Sink> made;
+  try {
+    made = std::make_unique<Sink>(format, ospec, file, threads);
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    file.fail(e.what(), errno);
+  }
+  Sink& sink = *made;
   const std::size_t width = static_cast<std::size_t>(spec.width);
   const std::size_t sample = sink.type().size();
   const int strip =
@@ -197,22 +224,20 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
-                          TablePool* pool, const std::map<std::string, std::string>& attributes,
-                          const std::function<void(const ImageReport&)>& before_commit,
-                          const ThreadShare* share) {
+                          const ImageJobOptions& options) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
   const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
   ImageReader reader(input, out_channels, /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
-  AtomicOutput file(output, std::span<const std::string>(&input, 1));
-  if (!pool) limit_threads(settings.threads);  // a batch sets its pool's threads once
-  // In a batch, this file's share of its cores now (for the writer) and at every strip.
-  Settings s = settings;
-  if (share) s.threads = share->now();
-  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(), s,
-                             log, pool, attributes, share);
+  AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
+  if (!options.shared.pool) limit_threads(settings.threads);  // a batch sets its threads once
+  // The header records the warnings and, filled in at the end, the counts.
+  ConversionContext context = options.shared;
+  context.record_in_header = true;
+  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
+                             settings, log, context);
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
     log(1, "'" + input + "': " + std::to_string(reader.mip_levels()) + " MIP levels, " +
                std::to_string(reader.subimages()) +
@@ -221,7 +246,7 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   auto [t_convert, t_write] = stream(
       reader, file, "openexr", conversion.output_spec(),
       [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
-      progress, s.threads, share);
+      progress, settings.threads, options.shared.share);  // a batch's share: asked per strip
   ImageReport rep = conversion.finish(log);
   rep.output = output;
   rep.mip_levels = reader.mip_levels();
@@ -231,9 +256,18 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   rep.seconds_convert = t_convert;
   rep.seconds_write = t_write;
   rep.seconds_total = seconds_since(t_start);
+  // The counts into the doubles the header holds for them (same size: nothing moves).
+  const auto extents = exr_attribute_extents(file.path());
+  for (const auto& [name, value] : count_attributes(rep.counts)) {
+    auto it = extents.find("spectralize:" + name);
+    if (it == extents.end() || it->second.second != sizeof value)
+      throw FileError(quote(output, 200) + ": the written header lost its " + name + " record");
+    file.overwrite(it->second.first,
+                   std::string_view(reinterpret_cast<const char*>(&value), sizeof value));
+  }
   // What must succeed with the image (its report) is written first: a failure there leaves
   // nothing at the destination either.
-  if (before_commit) before_commit(rep);
+  if (options.before_commit) options.before_commit(rep);
   file.commit();
   return rep;
 }
@@ -263,7 +297,8 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
   if (rep.output_format == "openexr" && settings.integer_bits != 0)
     throw Error("'" + output + "': OpenEXR stores half or float samples, not uint" +
                 std::to_string(settings.integer_bits));
-  AtomicOutput file(output, std::span<const std::string>(&input, 1));
+  AtomicOutput file(output, WriteRules::named("the output"),
+                    std::span<const std::string>(&input, 1));
   limit_threads(settings.threads);
   auto warn = [&](const std::string& message) {
     rep.warnings.push_back(message);

@@ -7,27 +7,33 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
+#include "io/image_conversion.h"
 #include "io/image_report.h"
 #include "io/job_log.h"
+#include "io/safe_output.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
 #include "io/thread_share.h"
 
 namespace spectralize {
 
+/// What a caller may add to an image job.
+struct ImageJobOptions {
+  ConversionContext shared;  // a batch's tables, config and decision; more header attributes
+  WriteRules output = WriteRules::named("the output");    // how `output` may be written
+  std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
+};
+
 /// Converts `input` to the spectral OpenEXR `output`. Never overwrites the input (under any
-/// alias); nothing is left at `output` unless it completed. `pool` shares a batch's tables;
-/// `attributes` are recorded in the output's header; `before_commit` runs with the finished
-/// report before the file is moved into place (a throw there leaves nothing); `share`: the
-/// batch's cores, asked again at every strip (instead of settings.threads). Throws Error
-/// naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
+/// alias) nor another output of the run; nothing is left at `output` unless it completed. The
+/// header records the settings as resolved for the file, the conversion's warnings and counts;
+/// `before_commit` runs with the finished report before the file is moved into place. Throws
+/// Error naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
 ImageReport run_image_job(const std::string& input, const std::string& output,
                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
-                          TablePool* pool = nullptr,
-                          const std::map<std::string, std::string>& attributes = {},
-                          const std::function<void(const ImageReport&)>& before_commit = {},
-                          const ThreadShare* share = nullptr);
+                          const ImageJobOptions& options = {});
 
 /// Integrates the spectral OpenEXR `input` (any writer's) to RGB(A) in settings.colorspace
 /// (resolved by the caller), written to the OpenEXR `output` like run_image_job. Throws Error.

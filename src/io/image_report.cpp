@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_text.h"
+
 namespace spectralize {
 
 namespace {
@@ -48,10 +50,37 @@ std::vector<std::string> count_warnings(const PixelCounts& c, const std::string&
   return w;
 }
 
+std::vector<std::pair<std::string, double>> count_attributes(const PixelCounts& c) {
+  auto d = [](std::uint64_t v) { return static_cast<double>(v); };
+  return {{"invalidPixels", d(c.invalid)},
+          {"invalidAlphaPixels", d(c.alpha_invalid)},
+          {"negativeLuminancePixels", d(c.negative)},
+          {"outsideLocusPixels", d(c.outside_locus)},
+          {"outsideSolidPixels", d(c.outside_solid)},
+          {"brighterThanWhitePixels", d(c.brighter_than_white)},
+          {"halfOverflowPixels", d(c.half_overflow)}};
+}
+
+PixelCounts counts_from_attributes(const std::map<std::string, double>& a) {
+  auto get = [&](const char* name) -> std::uint64_t {
+    auto it = a.find(std::string("spectralize:") + name);
+    return it == a.end() || !(it->second >= 0) ? 0 : static_cast<std::uint64_t>(it->second);
+  };
+  PixelCounts c;
+  c.invalid = get("invalidPixels");
+  c.alpha_invalid = get("invalidAlphaPixels");
+  c.negative = get("negativeLuminancePixels");
+  c.outside_locus = get("outsideLocusPixels");
+  c.outside_solid = get("outsideSolidPixels");
+  c.brighter_than_white = get("brighterThanWhitePixels");
+  c.half_overflow = get("halfOverflowPixels");
+  return c;
+}
+
 std::string report_json(const ImageReport& r, int indent) {
   Json j;
-  j["input"] = r.input;
-  j["output"] = r.output;
+  put_path(j, "input", r.input);
+  put_path(j, "output", r.output);
   j["input_format"] = r.input_format;
   j["width"] = r.width;
   j["height"] = r.height;
@@ -86,7 +115,7 @@ std::string report_json(const ImageReport& r, int indent) {
                 {"fallbacks", r.cache.fallback_solves},
                 {"fallback_hits", r.cache.fallback_hits}};
   if (!r.cache_file.empty()) {
-    j["cache"]["file"] = r.cache_file;
+    put_path(j["cache"], "file", r.cache_file);
     j["cache"]["status"] = r.cache_status;
   }
   j["warnings"] = r.warnings;
@@ -94,13 +123,13 @@ std::string report_json(const ImageReport& r, int indent) {
                   {"convert", r.seconds_convert},
                   {"write", r.seconds_write},
                   {"total", r.seconds_total}};
-  return j.dump(indent);
+  return dump_json(j, indent);
 }
 
 std::string report_json(const ToRgbReport& r, int indent) {
   Json j;
-  j["input"] = r.input;
-  j["output"] = r.output;
+  put_path(j, "input", r.input);
+  put_path(j, "output", r.output);
   j["output_format"] = r.output_format;
   j["width"] = r.width;
   j["height"] = r.height;
@@ -118,7 +147,7 @@ std::string report_json(const ToRgbReport& r, int indent) {
   j["clipped_pixels"] = r.clipped_pixels;
   j["warnings"] = r.warnings;
   j["seconds"] = r.seconds;
-  return j.dump(indent);
+  return dump_json(j, indent);
 }
 
 }  // namespace spectralize

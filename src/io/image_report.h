@@ -3,7 +3,9 @@
 // and the Python module. The settings part is generated from the schema (docs/DESIGN.md §8).
 
 #include <cstdint>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/spectral_table.h"
@@ -58,6 +60,13 @@ struct ToRgbReport {
 /// "rgb") and counting `noun` ("pixels", "colours"); options spelt as `names` does. Cost: O(1).
 std::vector<std::string> count_warnings(const PixelCounts& counts, const std::string& subject,
                                         const std::string& noun, const OptionNames& names);
+
+/// The counts a spectral file's header records (as "spectralize:<name>" double attributes,
+/// exact below 2^53), by name: the ones count_warnings speaks of. Cost: O(1).
+std::vector<std::pair<std::string, double>> count_attributes(const PixelCounts& counts);
+
+/// The counts read back from those attributes (absent ones are 0). Cost: O(attributes).
+PixelCounts counts_from_attributes(const std::map<std::string, double>& attributes);
 
 /// The report as JSON text (indent < 0: one line). Cost: O(report).
 std::string report_json(const ImageReport& report, int indent = 2);

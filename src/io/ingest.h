@@ -9,10 +9,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "io/job_log.h"
+#include "io/safe_output.h"
 #include "io/settings.h"
 
 namespace spectralize {
@@ -25,31 +27,52 @@ struct IngestRequest {
   std::string manifest;              // the manifest to write ("" : in the destination)
   bool force = false;                // convert even what is up to date
   int shard = 0, shards = 1;         // this process does the files of shard `shard` of `shards`
+                                     // (checked by io/shard.h's parse_shard or slurm_shard)
   Settings settings;                 // every file's settings (a list line may override them)
 };
 
 /// One planned file.
 struct IngestItem {
-  std::string input, output;  // paths as used
-  std::string relative;       // the output relative to the destination (mirrors the source)
-  Settings settings;          // the batch's, with a list line's overrides
-  std::string failure;        // set at planning (e.g. two inputs for one output)
-  std::string derived_from;   // made from this input of the batch (same_stem.h): not converted
-  std::string note;           // how planning named it (same-stem siblings)
+  std::string input, output;    // paths as used
+  std::string relative;         // the output relative to the destination (mirrors the source)
+  std::string source_relative;  // the input relative to its source (what the output mirrors)
+  std::string copy;             // where `--data copy` would copy it ("" : not copied)
+  Settings settings;            // the batch's, with a list line's overrides
+  std::string failure;          // set at planning (e.g. two inputs for one output)
+  std::string copy_failure;     // set at planning: why it cannot be copied, should it be data
+  std::string derived_from;     // made from this input of the batch (same_stem.h): not converted
+  std::string note;             // how planning named it (same-stem siblings)
+};
+
+/// What the walk left out or could not enter, by name: a hidden file, a non-image, a link to a
+/// device, a dangling link, the destination reached again, a file given twice, an unreadable
+/// folder, a loop. `failure`: the walk could not do its job there (the batch exits 1).
+struct LeftOut {
+  std::string path;
+  std::string kind;    // a short class for counts: "not_image", "hidden", "unreadable_folder", ...
+  std::string reason;  // for people: "not an image (by its extension)"
+  bool failure = false;
 };
 
 struct IngestPlan {
   IngestRequest request;
   std::vector<IngestItem> items;  // this shard's files, in order
   std::size_t all_items = 0;      // the whole batch (every shard)
-  std::size_t not_images = 0;     // files in walked folders that are not images (ignored)
+  std::vector<LeftOut> left_out;  // of the whole batch, in walk order
   std::string manifest;           // where the manifest goes
+  std::string batch;              // the batch's identity (every shard's plan agrees)
+  std::string config_identity;    // the OCIO config by content (ColourSpaces::content_identity)
+  FilePlan files;                 // everything the batch reads and writes, checked
 };
 
-/// Walks, expands and reads the inputs, names the outputs, finds collisions and keeps this
+/// Walks, expands and reads the inputs (each file once, whatever its spellings), names the
+/// outputs, plans every file the batch writes against every file it reads and against each other
+/// (a conflict is that file's failure; a manifest in conflict refuses the batch) and keeps this
 /// shard's files. Throws Error (a wrong command line: exit 2) for a destination inside a source
-/// folder, a missing source given by name, a malformed list (naming the line), a bad shard or
-/// no inputs at all. Cost: a directory walk and a stat per file.
+/// folder (also by a glob pattern that reaches into it), a malformed list (naming the line), a
+/// bad shard or no inputs at all; FileError (exit 1) for a destination or manifest that cannot
+/// be written, an unreadable list; ConfigError for a config that does not load. Cost: a
+/// directory walk and a few stats per file.
 IngestPlan plan_ingest(const IngestRequest& request);
 
 /// Counts of a batch, for the summary and the manifest's last record.
@@ -57,8 +80,12 @@ struct IngestSummary {
   std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, derived = 0,
                 failed = 0;
   std::uint64_t pixels = 0, stale_temporaries_removed = 0;
+  std::uint64_t left_out = 0, not_entered = 0;  // left out of the walk; of them, failures
+  std::map<std::string, std::uint64_t> left_out_by_reason;  // "not an image": 3, ...
   double seconds = 0;
   std::string manifest;
+  /// True when nothing failed: no file, and the walk entered everything. Cost: O(1).
+  bool ok() const { return failed == 0 && not_entered == 0; }
   /// Files handled, all statuses. Cost: O(1).
   std::uint64_t files() const {
     return converted + up_to_date + skipped_data + copied_data + derived + failed;
@@ -81,8 +108,11 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
                          const LogFn& log);
 
 /// Merges the shard manifests of `destination` (written by `--shard I/N` runs) into its
-/// manifest, "spectralize-ingest.jsonl", and returns the summary of all of them. Throws Error
-/// naming missing or malformed parts. Cost: O(records).
+/// manifest, "spectralize-ingest.jsonl", and returns the summary of all of them. The parts must
+/// be one batch's (the same batch identity and N), each shard exactly once and complete (its
+/// summary last, its records as many as it says), together every file of the batch once.
+/// Throws FileError naming missing, foreign, stale, malformed or incomplete parts. Cost:
+/// O(records).
 IngestSummary merge_ingest_manifests(const std::string& destination);
 
 }  // namespace spectralize

@@ -531,6 +531,14 @@ InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSp
     in.warnings.push_back(where + "non-colour data by its " + in.name.reason +
                           ": its values are not a colour; converted as asked (ingest skips "
                           "such files)");
+  decide_light_or_surface(in, file, spec, settings, spaces);
+  return in;
+}
+
+void decide_light_or_surface(InputInterpretation& in, const std::string& file,
+                             const OIIO::ImageSpec& spec, const Settings& settings,
+                             const ColourSpaces& spaces) {
+  const std::string where = "'" + clip(file, 200) + "': ";
   // Light or surface (docs/DESIGN.md §9).
   ModeClues clues;
   clues.asked = settings.mode;
@@ -546,7 +554,17 @@ InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSp
   in.mode = d.mode;
   in.mode_reason = d.reason;
   for (const std::string& w : d.warnings) in.warnings.push_back(where + w);
-  return in;
+}
+
+Settings resolved_settings(const Settings& settings, const InputInterpretation& in,
+                           const ColourSpaces& spaces) {
+  Settings s = settings;
+  s.spectral.mode = in.mode;
+  s.colorspace = in.colorspace;
+  s.preview_colorspace = settings.preview_colorspace.empty()
+                             ? default_colour_space(spaces, true).first
+                             : spaces.resolve(settings.preview_colorspace);
+  return s;
 }
 
 }  // namespace spectralize

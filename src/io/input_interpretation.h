@@ -66,6 +66,20 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
 InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSpec& spec,
                                     const Settings& settings, const ColourSpaces& spaces);
 
+/// The light-or-surface half of interpret_input for an interpretation interpret_colour made
+/// (ingest decides data first, and reads no pixels of a file it skips): sets in.mode and
+/// in.mode_reason, adds its warnings. Cost: reading the image when no earlier clue decides.
+void decide_light_or_surface(InputInterpretation& in, const std::string& file,
+                             const OIIO::ImageSpec& spec, const Settings& settings,
+                             const ColourSpaces& spaces);
+
+/// The settings as resolved for one file: its mode and colour space as `in` decided them, and
+/// the preview colour space (settings.preview_colorspace resolved, else the config's
+/// scene_linear role). What its header records and what ingest's up-to-date key hashes
+/// (file_settings). Throws Error for an unknown preview space. Cost: an OCIO look-up.
+Settings resolved_settings(const Settings& settings, const InputInterpretation& in,
+                           const ColourSpaces& spaces);
+
 /// The config's default space for float (scene_linear) or integer data (matte_paint,
 /// color_picking, texture_paint), with the role that gave it; throws Error naming the config
 /// when it has none of them. Cost: O(1).

@@ -28,12 +28,20 @@ bool is_image_path(const std::string& path) {
 
 ColourSpaces load_config(const Settings& s, const OptionNames& names) {
   if (s.config.empty()) return ColourSpaces::load();
-  return with_context(names("config"), [&] { return ColourSpaces::load(s.config); });
+  try {
+    return with_context(names("config"), [&] { return ColourSpaces::load(s.config); });
+  } catch (const ConfigError& e) {
+    throw ConfigError(names("config") + ": " + e.what());  // still the config's fault (exit 1)
+  }
 }
 
 void resolve_colour_space(Settings& s, const ColourSpaces& spaces, const OptionNames& names) {
   if (!s.colorspace.empty())
     s.colorspace = with_context(names("colorspace"), [&] { return spaces.resolve(s.colorspace); });
+  // Every colour space named by an option is checked before any work, the same way.
+  if (!s.preview_colorspace.empty())
+    s.preview_colorspace = with_context(names("preview_colorspace"),
+                                        [&] { return spaces.resolve(s.preview_colorspace); });
 }
 
 }  // namespace

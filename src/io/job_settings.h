@@ -13,8 +13,13 @@ namespace spectralize {
 struct OptionNames {
   std::string prefix;  // before a setting's key: "--" (CLI) or "" (Python)
   std::string output;  // the output's name: "-o" or "output"
-  /// A setting's name as this front end spells it ("--colorspace"). Cost: O(1).
-  std::string operator()(const std::string& key) const { return prefix + key; }
+  /// A setting's name as this front end spells it: its flag on the command line
+  /// ("--preview-colorspace"), else prefix + key. Cost: O(settings).
+  std::string operator()(const std::string& key) const {
+    if (prefix == "--")
+      if (const SettingSpec* spec = find_setting(key)) return std::string(spec->flag);
+    return prefix + key;
+  }
 };
 
 /// RGB -> spectral OpenEXR: a .exr output, half or float samples, the config loads, the colour

@@ -2,7 +2,9 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <array>
@@ -17,6 +19,7 @@
 #include <set>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "core/error.h"
 
@@ -140,28 +143,63 @@ void install_cleanup_handlers() {
 }
 
 namespace {
-// The files this process reads (device, inode): no AtomicOutput replaces one of them. Kept
-// while a ReadFileScope lives (the CLI's whole run; each call into the Python module).
-std::mutex g_inputs_mutex;
-std::set<std::pair<dev_t, ino_t>> g_inputs;
+
+// The run's registry (docs/DESIGN.md §9): the files it reads and the outputs it has claimed,
+// by place, kept while a ReadFileScope lives (the CLI's whole run; each call into the Python
+// module).
+struct Claim {
+  std::string destination, what;
+  bool opened = false;  // by an AtomicOutput (else only planned by FilePlan::claim)
+};
+struct Read {
+  std::string path, what;
+};
+std::mutex g_registry_mutex;
+std::map<FilePlace, Read> g_reads;
+std::map<FilePlace, Claim> g_writes;
 int g_scopes = 0;
+
+FilePlace existing_place(const struct stat& st) {
+  return {static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino), ""};
+}
+
+std::string quoted(const std::string& path) {
+  return quote(path, 200);
+}
+
+// "the input 'lib/a.png'" for messages.
+std::string described(const std::string& what, const std::string& path) {
+  return path.empty() ? what : what + " " + quoted(path);
+}
+
+// "is also the output of 'lib/a.png' ('out/./a.exr') in this run; ...": another output of the
+// run, under the spelling it was given when that differs.
+std::string also_written(const std::string& what, const std::string& other,
+                         const std::string& destination) {
+  return "is also " + what + (other == destination ? std::string() : " (" + quoted(other) + ")") +
+         " in this run; refusing to write both";
+}
+
 }  // namespace
 
 ReadFileScope::ReadFileScope() {
-  std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  std::lock_guard<std::mutex> lock(g_registry_mutex);
   ++g_scopes;
 }
 
 ReadFileScope::~ReadFileScope() {
-  std::lock_guard<std::mutex> lock(g_inputs_mutex);
-  if (--g_scopes == 0) g_inputs.clear();
+  std::lock_guard<std::mutex> lock(g_registry_mutex);
+  if (--g_scopes == 0) {
+    g_reads.clear();
+    g_writes.clear();
+  }
 }
 
-void protect_input(const std::string& path) {
+void protect_input(const std::string& path, std::string_view what) {
   struct stat st {};
   if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
-  std::lock_guard<std::mutex> lock(g_inputs_mutex);
-  if (g_scopes > 0) g_inputs.insert({st.st_dev, st.st_ino});
+  std::lock_guard<std::mutex> lock(g_registry_mutex);
+  if (g_scopes > 0) g_reads.emplace(existing_place(st), Read{path, std::string(what)});
 }
 
 std::string link_target(const std::string& path) {
@@ -176,37 +214,203 @@ std::string link_target(const std::string& path) {
   return (ec ? fs::absolute(p, ec).lexically_normal() : canonical).string();
 }
 
-bool same_file(const std::string& a, const std::string& b) {
-  struct stat sa {
-  }, sb{};
-  if (::stat(a.c_str(), &sa) != 0 || ::stat(b.c_str(), &sb) != 0) return false;
-  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+FilePlace file_place(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return existing_place(st);
+  // Not there yet: the nearest existing folder of where writing it would create it.
+  fs::path p = link_target(path);
+  std::vector<std::string> missing;
+  while (::stat(p.c_str(), &st) != 0) {
+    if (!p.has_relative_path()) return {0, 0, fs::path(link_target(path)).string()};
+    missing.push_back(p.filename().string());
+    p = p.parent_path();
+  }
+  FilePlace place = existing_place(st);
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it)
+    place.rest += (place.rest.empty() ? "" : "/") + *it;
+  return place;
+}
+
+namespace {
+
+// The link spectralize did not make on the way from `below` to `destination` (or at it), as a
+// message, else "".
+std::string link_on_the_way(const std::string& destination, const std::string& below) {
+  if (below.empty()) return "";
+  const fs::path rel = fs::path(destination).lexically_relative(below);
+  if (rel.empty() || *rel.begin() == "..")
+    return quoted(destination) + ": is not inside " + quoted(below);
+  fs::path at = below;
+  for (const fs::path& part : rel) {
+    at /= part;
+    struct stat st {};
+    if (::lstat(at.c_str(), &st) != 0) return "";  // made by the tool from here on
+    if (S_ISLNK(st.st_mode))
+      return quoted(destination) + ": " +
+             (at == fs::path(destination) ? std::string("is")
+                                          : "its folder " + quoted(at.string()) + " is") +
+             " a symbolic link spectralize did not make; refusing to write through it";
+  }
+  return "";
+}
+
+// Why the destination whose link target is `target` (with its place) would replace a file the
+// run reads or another of its outputs, else "". Called with g_registry_mutex held.
+std::string conflict_locked(const std::string& destination, const FilePlace& place,
+                            std::span<const std::string> inputs) {
+  const std::string where = quoted(destination) + ": ";
+  if (place.rest.empty()) {
+    for (const std::string& input : inputs) {
+      struct stat st {};
+      if (::stat(input.c_str(), &st) == 0 && existing_place(st) == place)
+        return where + "is the input file " + quoted(input) + "; refusing to overwrite it";
+    }
+    if (auto it = g_reads.find(place); it != g_reads.end())
+      return where + "is a file this run reads (" + described(it->second.what, it->second.path) +
+             "); refusing to overwrite it";
+  }
+  if (auto it = g_writes.find(place);
+      it != g_writes.end() && (it->second.opened || it->second.destination != destination))
+    return where + also_written(it->second.what, it->second.destination, destination);
+  return "";
+}
+
+// Why `destination` cannot be written by this run, or "" (AtomicOutput's and FilePlan's
+// checks); `folder_must_exist` for a file about to be created (a plan's
+// folders are made later). Sets `target` (where the data go) and `stream`.
+std::string check_destination(const std::string& destination, const WriteRules& rules,
+                              std::span<const std::string> inputs, bool folder_must_exist,
+                              std::string& target, bool& stream, FilePlace& place) {
+  const std::string where = quoted(destination) + ": ";
+  stream = false;
+  target = destination;
+  if (destination.empty()) return "an empty output file name";
+  if (const int own = own_descriptor(destination); own >= 0) {
+    if (!rules.allow_stream) return where + "cannot be a stream; give a file name";
+    struct stat st {};
+    if (::fstat(own, &st) != 0) return where + errno_text(errno);
+    stream = true;
+    // A descriptor the shell opened on a file: never one the run reads.
+    if (!S_ISREG(st.st_mode)) return "";
+    place = existing_place(st);
+    std::lock_guard<std::mutex> lock(g_registry_mutex);
+    return conflict_locked(destination, place, inputs);
+  }
+  if (std::string why = link_on_the_way(destination, rules.own_below); !why.empty()) return why;
+  struct stat st {};
+  if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    // Write at the link's target, so the link keeps pointing at the new file (also when the
+    // target does not exist yet, which weakly_canonical alone would not follow).
+    target = link_target(destination);
+    if (target.empty()) return where + "cannot resolve the symbolic link";
+  }
+  const bool exists = ::stat(target.c_str(), &st) == 0;
+  place = exists ? existing_place(st) : file_place(target);
+  {
+    std::lock_guard<std::mutex> lock(g_registry_mutex);
+    if (std::string why = conflict_locked(destination, place, inputs); !why.empty()) return why;
+  }
+  if (exists) {
+    if (S_ISDIR(st.st_mode)) return where + "is a directory";
+    if (!S_ISREG(st.st_mode)) {
+      if (!rules.allow_stream || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))
+        return where + "exists and is not a regular file; refusing to replace it";
+      stream = true;
+    }
+    return "";
+  }
+  if (folder_must_exist) {
+    const fs::path t(target);
+    const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+      return where + quoted(dir.string()) + " is not a folder";
+    if (!fs::is_directory(dir, ec))
+      return where + "the folder " + quoted(dir.string()) + " does not exist";
+  }
+  return "";
+}
+
+// Claims `place` for `destination` (called once its checks passed). An opened claim of the
+// same place by another writer in between is reported as the conflict it is.
+std::string claim_place(const std::string& destination, const std::string& what,
+                        const FilePlace& place, bool opened) {
+  std::lock_guard<std::mutex> lock(g_registry_mutex);
+  if (g_scopes == 0) return "";
+  if (std::string why = conflict_locked(destination, place, {}); !why.empty()) return why;
+  Claim& c = g_writes[place];
+  c.destination = destination;
+  if (c.what.empty() || opened) c.what = what;
+  c.opened = c.opened || opened;
+  return "";
+}
+
+// The file a committed output became (a new inode): still this run's output under any alias.
+void remember_written(const FilePlace& place, const std::string& destination,
+                      const std::string& what) {
+  std::lock_guard<std::mutex> lock(g_registry_mutex);
+  if (g_scopes > 0) g_writes[place] = Claim{destination, what, true};
+}
+
+}  // namespace
+
+bool FilePlan::read(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return true;
+  return reads_.emplace(existing_place(st), Entry{path, what}).second;
+}
+
+std::string FilePlan::write(const std::string& path, const std::string& what,
+                            const WriteRules& rules) {
+  std::string target;
+  bool stream = false;
+  FilePlace place;
+  if (std::string why = check_destination(path, rules, {}, false, target, stream, place);
+      !why.empty())
+    return why;
+  // A stream is written in place: never claimed, but never a planned file either (a shell's
+  // descriptor on an input).
+  if (stream && place == FilePlace{}) return "";
+  const std::string where = quoted(path) + ": ";
+  if (auto it = reads_.find(place); it != reads_.end())
+    return where + "is a file this run reads (" + described(it->second.what, it->second.path) +
+           "); refusing to overwrite it";
+  if (auto it = writes_.find(place); it != writes_.end())
+    return where + also_written(it->second.what, it->second.path, path);
+  if (!stream) writes_.emplace(place, Entry{path, what});
+  return "";
+}
+
+void FilePlan::claim() const {
+  for (const auto& [place, e] : reads_) protect_input(e.path, e.what);
+  // Places again: the folders of the outputs may have been made since they were planned.
+  for (const auto& [place, e] : writes_) claim_place(e.path, e.what, file_place(e.path), false);
 }
 
 void check_readable_file(const std::string& path, std::string_view what) {
-  const std::string where = "'" + clip(path, 200) + "'" + (what.empty() ? "" : " (") +
-                            std::string(what) + (what.empty() ? "" : ")") + ": ";
-  if (path.empty()) throw Error(std::string(what) + ": an empty file name");
+  const std::string where = quote(path, 200) + (what.empty() ? "" : " (") + std::string(what) +
+                            (what.empty() ? "" : ")") + ": ";
+  if (path.empty()) throw FileError(std::string(what) + ": an empty file name");
   // O_NONBLOCK: opening a FIFO must not wait for a writer.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     const int err = errno;
-    throw Error(where + (err == ENOENT ? std::string("no such file") : errno_text(err)));
+    throw FileError(where + (err == ENOENT ? std::string("no such file") : errno_text(err)));
   }
   struct stat st {};
   const int rc = ::fstat(fd, &st);
   ::close(fd);
-  if (rc != 0) throw Error(where + errno_text(errno));
-  if (S_ISDIR(st.st_mode)) throw Error(where + "is a directory");
+  if (rc != 0) throw FileError(where + errno_text(errno));
+  if (S_ISDIR(st.st_mode)) throw FileError(where + "is a directory");
   if (!S_ISREG(st.st_mode))
-    throw Error(where + "is not a regular file (" +
-                (S_ISFIFO(st.st_mode)   ? "a pipe"
-                 : S_ISCHR(st.st_mode)  ? "a character device"
-                 : S_ISBLK(st.st_mode)  ? "a block device"
-                 : S_ISSOCK(st.st_mode) ? "a socket"
-                                        : "not a file") +
-                ")");
-  protect_input(path);
+    throw FileError(where + "is not a regular file (" +
+                    (S_ISFIFO(st.st_mode)   ? "a pipe"
+                     : S_ISCHR(st.st_mode)  ? "a character device"
+                     : S_ISBLK(st.st_mode)  ? "a block device"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                                            : "not a file") +
+                    ")");
+  protect_input(path, what.empty() ? std::string_view("an input") : what);
 }
 
 std::string clip(std::string_view value, std::size_t limit) {
@@ -230,7 +434,7 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     return n;
   }
   size_t pread(void* buf, size_t size, int64_t offset) override {
-    if (out_.kind_ == Kind::stream) return 0;
+    if (out_.kind_ == Kind::stream || !flush()) return 0;
     size_t got = 0;
     while (got < size) {
       const ssize_t n = ::pread(out_.fd_, static_cast<char*>(buf) + got, size - got,
@@ -246,13 +450,27 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     m_pos += static_cast<int64_t>(n);
     return n;
   }
+  // Writers write headers a field at a time (an EXR header of 90 channels is ~700 writes):
+  // contiguous writes are gathered up to kGather bytes, so each is not a system call. A failure
+  // shows when they go out (the next write, flush(), check(), commit()), as the system's reason.
   size_t pwrite(const void* buf, size_t size, int64_t offset) override {
-    int err = 0;
-    if (!write_all(out_.fd_, static_cast<const char*>(buf), size,
-                   out_.kind_ == Kind::stream ? -1 : offset, err)) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (out_.error_.empty()) out_.error_ = errno_text(err);
-      return 0;
+    const char* data = static_cast<const char*>(buf);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!out_.error_.empty()) return 0;
+    if (out_.kind_ == Kind::stream) {
+      if (!write_locked(data, size, -1)) return 0;
+    } else if (!pending_.empty() &&
+               offset == pending_at_ + static_cast<std::int64_t>(pending_.size()) &&
+               pending_.size() + size <= kGather) {
+      pending_.append(data, size);
+    } else {
+      if (!flush_locked()) return 0;
+      if (size >= kGather) {
+        if (!write_locked(data, size, offset)) return 0;
+      } else {
+        pending_at_ = offset;
+        pending_.assign(data, size);
+      }
     }
     std::int64_t end = offset + static_cast<std::int64_t>(size);
     std::int64_t seen = end_.load();
@@ -260,74 +478,83 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     }
     return size;
   }
+  /// Writes out what was gathered; false (the error kept) when the system refused it.
+  bool flush() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return flush_locked();
+  }
   size_t size() const override { return static_cast<size_t>(end_.load()); }
   std::int64_t end() const { return end_.load(); }
 
  private:
+  static constexpr std::size_t kGather = 256 * 1024;
+
+  bool flush_locked() {
+    if (pending_.empty()) return true;
+    const bool ok = write_locked(pending_.data(), pending_.size(), pending_at_);
+    pending_.clear();
+    return ok;
+  }
+  bool write_locked(const char* data, std::size_t size, std::int64_t offset) {
+    int err = 0;
+    if (write_all(out_.fd_, data, size, offset, err)) return true;
+    if (out_.error_.empty()) out_.error_ = errno_text(err);
+    return false;
+  }
+
   AtomicOutput& out_;
   std::atomic<std::int64_t> end_{0};
   std::mutex mutex_;
+  std::string pending_;  // gathered bytes, to be written at pending_at_
+  std::int64_t pending_at_ = 0;
 };
 
-AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::string> inputs,
-                           bool allow_stream)
+AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rules,
+                           std::span<const std::string> inputs)
     : destination_(destination), target_(destination) {
   install_cleanup_handlers();
-  const std::string where = "'" + clip(destination, 200) + "': ";
-  if (destination.empty()) throw Error("an empty output file name");
+  const std::string where = quote(destination, 200) + ": ";
+  bool stream = false;
+  FilePlace place;
+  if (std::string why = check_destination(destination, rules, inputs, true, target_, stream, place);
+      !why.empty())
+    throw FileError(why);
   // The process's own descriptors (/dev/stdout, ...) are streams whatever they point to: a
   // file a shell redirected stdout into must be appended to, not replaced.
   if (const int own = own_descriptor(destination); own >= 0) {
-    if (!allow_stream) throw Error(where + "cannot be a stream; give a file name");
     fd_ = ::fcntl(own, F_DUPFD_CLOEXEC, 3);
-    if (fd_ < 0) throw Error(where + errno_text(errno));
+    if (fd_ < 0) throw FileError(where + errno_text(errno));
     kind_ = Kind::stream;
     path_ = destination;
     return;
   }
-  struct stat st {};
-  if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
-    // Write at the link's target, so the link keeps pointing at the new file (also when the
-    // target does not exist yet, which weakly_canonical alone would not follow).
-    target_ = link_target(destination);
-    if (target_.empty()) throw Error(where + "cannot resolve the symbolic link");
+  if (stream) {
+    fd_ = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd_ < 0) throw FileError(where + errno_text(errno));
+    // Back to blocking writes: a reader that is slow must not turn into EAGAIN errors.
+    ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
+    kind_ = Kind::stream;
+    path_ = target_;
+    return;
   }
-  if (::stat(target_.c_str(), &st) == 0) {
-    for (const std::string& input : inputs)
-      if (same_file(target_, input))
-        throw Error(where + "is the input file '" + clip(input, 200) +
-                    "'; refusing to overwrite it");
-    {
-      std::lock_guard<std::mutex> lock(g_inputs_mutex);
-      if (S_ISREG(st.st_mode) && g_inputs.count({st.st_dev, st.st_ino}))
-        throw Error(where +
-                    "is a file this run reads (an input, its config or list); refusing "
-                    "to overwrite it");
-    }
-    if (S_ISDIR(st.st_mode)) throw Error(where + "is a directory");
-    if (!S_ISREG(st.st_mode)) {
-      if (!allow_stream || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))
-        throw Error(where + "exists and is not a regular file; refusing to replace it");
-      fd_ = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
-      if (fd_ < 0) throw Error(where + errno_text(errno));
-      // Back to blocking writes: a reader that is slow must not turn into EAGAIN errors.
-      ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
-      kind_ = Kind::stream;
-      path_ = target_;
-      return;
-    }
-  }
+  // No other output of the run goes here from now on (nor did one before: checked above).
+  if (std::string why = claim_place(destination, rules.what, place, true); !why.empty())
+    throw FileError(why);
+  what_ = rules.what;
+  sync_folder_ = !rules.folder_synced_later;
   const fs::path target(target_);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw Error(where + "the folder '" + clip(dir.string(), 200) + "' does not exist");
+    throw FileError(where + "the folder '" + clip(dir.string(), 200) + "' does not exist");
   // ".<name>.spectralize-XXXXXX.tmp", within NAME_MAX; mkostemps creates it with O_EXCL, which
   // never follows a link planted at that name, and tries another name if one is there.
   const std::string suffix = kTemporarySuffix;
   const std::string name = target.filename().string();
   const std::string base =
-      (dir / ("." + fitting_name(name, NAME_MAX - 1 - suffix.size()) + suffix)).string();
+      (dir /
+       std::string(".").append(fitting_name(name, NAME_MAX - 1 - suffix.size())).append(suffix))
+          .string();
   // Locked while it lives, so that a sweep of stale temporaries (remove_stale_temporaries)
   // never takes a live one; a sweep that removed it between creation and lock is seen as a
   // lost link, and another name is made.
@@ -335,8 +562,8 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
     std::string tmpl = base;
     fd_ = ::mkostemps(tmpl.data(), 4, O_CLOEXEC);
     if (fd_ < 0)
-      throw Error(where + "cannot create a file in '" + clip(dir.string(), 200) +
-                  "': " + errno_text(errno));
+      throw FileError(where + "cannot create a file in '" + clip(dir.string(), 200) +
+                      "': " + errno_text(errno));
     struct stat st {};
     if (::flock(fd_, LOCK_EX) == 0 && ::fstat(fd_, &st) == 0 && st.st_nlink > 0) {
       path_ = tmpl;
@@ -345,7 +572,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, std::span<const std::
     ::close(fd_);
     fd_ = -1;
     if (attempt == 8)
-      throw Error(where + "cannot keep a temporary file in '" + clip(dir.string(), 200) + "'");
+      throw FileError(where + "cannot keep a temporary file in '" + clip(dir.string(), 200) + "'");
   }
   slot_ = register_temporary(path_);
   // The permissions a new file would get, or those of the file it replaces.
@@ -366,9 +593,23 @@ void AtomicOutput::write(std::string_view bytes) {
   if (!error_.empty()) return;
   if (!write_all(fd_, bytes.data(), bytes.size(), -1, err)) {
     error_ = errno_text(err);
-    throw Error("'" + clip(destination_, 200) + "': cannot write: " + error_);
+    throw FileError(quote(destination_, 200) + ": cannot write: " + error_);
   }
   written_ += bytes.size();
+}
+
+void AtomicOutput::overwrite(std::uint64_t offset, std::string_view bytes) {
+  check();
+  const std::string where = quote(destination_, 200) + ": ";
+  const std::uint64_t end =
+      std::max<std::uint64_t>(written_, proxy_ ? static_cast<std::uint64_t>(proxy_->end()) : 0);
+  if (kind_ != Kind::file || offset + bytes.size() > end)
+    throw FileError(where + "cannot rewrite bytes that were not written");
+  int err = 0;
+  if (!write_all(fd_, bytes.data(), bytes.size(), static_cast<std::int64_t>(offset), err)) {
+    error_ = errno_text(err);
+    throw FileError(where + "cannot write: " + error_);
+  }
 }
 
 OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
@@ -377,11 +618,32 @@ OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
 }
 
 void AtomicOutput::check() const {
-  if (!error_.empty()) throw Error("'" + clip(destination_, 200) + "': write failed: " + error_);
+  if (proxy_) proxy_->flush();
+  if (!error_.empty()) throw FileError(quote(destination_, 200) + ": write failed: " + error_);
+}
+
+void AtomicOutput::fail(const std::string& message, int err) const {
+  check();
+  // Written by name (not through the checked proxy): the system's reason when it can be told.
+  std::string reason;
+  if (err == ENOSPC || err == EDQUOT || err == EFBIG || err == EIO || err == EROFS) {
+    reason = errno_text(err);
+  } else if (kind_ == Kind::file && fd_ >= 0) {
+    struct statvfs vs {};
+    struct stat st {};
+    struct rlimit limit {};
+    if (::fstatvfs(fd_, &vs) == 0 && (vs.f_bavail == 0 || vs.f_bfree == 0))
+      reason = errno_text(ENOSPC);
+    else if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+             ::fstat(fd_, &st) == 0 && static_cast<rlim_t>(st.st_size) >= limit.rlim_cur)
+      reason = errno_text(EFBIG);
+  }
+  if (!reason.empty()) throw FileError(message + " (" + reason + ")");
+  throw Error(message);
 }
 
 void AtomicOutput::commit() {
-  const std::string where = "'" + clip(destination_, 200) + "': ";
+  const std::string where = quote(destination_, 200) + ": ";
   check();
   if (kind_ == Kind::stream) {
     committed_ = true;
@@ -390,26 +652,32 @@ void AtomicOutput::commit() {
   // The file must hold exactly what was written: a short write that went unnoticed would
   // otherwise become a truncated file at the destination.
   struct stat st {};
-  if (::fstat(fd_, &st) != 0) throw Error(where + "write failed: " + errno_text(errno));
+  if (::fstat(fd_, &st) != 0) throw FileError(where + "write failed: " + errno_text(errno));
   const std::int64_t expected =
       std::max<std::int64_t>(static_cast<std::int64_t>(written_), proxy_ ? proxy_->end() : 0);
   if (expected > 0 && st.st_size != expected)
-    throw Error(where + "write failed: the file holds " + std::to_string(st.st_size) +
-                " bytes of " + std::to_string(expected));
-  if (st.st_size == 0) throw Error(where + "write failed: nothing was written");
-  if (::fsync(fd_) != 0) throw Error(where + "write failed: " + errno_text(errno));
+    throw FileError(where + "write failed: the file holds " + std::to_string(st.st_size) +
+                    " bytes of " + std::to_string(expected));
+  if (st.st_size == 0) throw FileError(where + "write failed: nothing was written");
+  if (::fsync(fd_) != 0) throw FileError(where + "write failed: " + errno_text(errno));
   const int fd = fd_;
   fd_ = -1;
-  if (::close(fd) != 0) throw Error(where + "write failed: " + errno_text(errno));
+  if (::close(fd) != 0) throw FileError(where + "write failed: " + errno_text(errno));
   if (::rename(path_.c_str(), target_.c_str()) != 0)
-    throw Error(where + "cannot move the finished file into place: " + errno_text(errno));
+    throw FileError(where + "cannot move the finished file into place: " + errno_text(errno));
   committed_ = true;
   release_temporary(slot_);
   slot_ = -1;
-  // Make the rename itself durable (best effort: some file systems refuse to sync a folder).
-  const fs::path dir =
-      fs::path(target_).has_parent_path() ? fs::path(target_).parent_path() : fs::path(".");
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  remember_written(existing_place(st), destination_, what_);
+  // Make the rename itself durable (best effort: some file systems refuse to sync a folder),
+  // unless the caller syncs the folder once for all its files (sync_folder_later).
+  if (!sync_folder_) return;
+  sync_folder(fs::path(target_).has_parent_path() ? fs::path(target_).parent_path().string()
+                                                  : std::string("."));
+}
+
+void sync_folder(const std::string& folder) {
+  const int dfd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {
     ::fsync(dfd);
     ::close(dfd);

@@ -12,16 +12,13 @@ namespace spectralize {
 
 namespace {
 
-constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest;
+constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest | kTable;
 constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
-constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest;
+constexpr unsigned kAllCommands =
+    kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest | kTable;
 
 std::string quoted(std::string_view text) {
-  // Appended rather than "'" + clip(text): GCC 12 warns falsely (-Wstringop-overflow) there.
-  std::string out = "'";
-  out += clip(text);
-  out += "'";
-  return out;
+  return quote(text);
 }
 
 // A whole number in [lo, hi]; throws Error naming the value.
@@ -103,10 +100,10 @@ std::string model_help() {
 
 std::vector<SettingSpec> make_schema() {
   std::vector<SettingSpec> s;
-  s.push_back({"colorspace", "--colorspace", "NAME", "",
+  s.push_back({"colorspace", "--colorspace", "NAME", "colorspace",
                "Colour space of the input (--to-rgb: of the output): a name, alias or role of "
                "the OCIO config",
-               kImage | kToRgb | kColor | kPlotColor | kIngest, true, false,
+               kImage | kToRgb | kColor | kPlotColor | kIngest | kTable, true, false,
                [](Settings& v, std::string_view t) { v.colorspace = std::string(t); },
                [](const Settings& v) { return v.colorspace; },
                [](const Settings& v) { return !v.colorspace.empty(); },
@@ -114,7 +111,7 @@ std::vector<SettingSpec> make_schema() {
   s.push_back({"mode", "--mode", "MODE", "mode",
                "emission (lights, HDR), reflectance (surfaces, 0 <= rho <= 1) or auto (a light "
                "or surface word of the name or its folders, else the image: values brighter than "
-               "white are light; --color values are light)",
+               "white are light; --color values are light; a table is for textures)",
                kSpectrumCommands, true, true,
                [](Settings& v, std::string_view t) {
                  const std::string_view c = choice(t, {"auto", "emission", "reflectance"});
@@ -221,7 +218,7 @@ std::vector<SettingSpec> make_schema() {
                             : std::to_string(v.tile_width) + "x" + std::to_string(v.tile_height);
                },
                nullptr});
-  s.push_back({"preview_colorspace", "--preview-colorspace", "NAME", "",
+  s.push_back({"preview_colorspace", "--preview-colorspace", "NAME", "previewColorSpace",
                "Colour space of the spectral file's R, G, B previews (tagged in the file)",
                kImage | kIngest, true, false,
                [](Settings& v, std::string_view t) { v.preview_colorspace = std::string(t); },
@@ -271,6 +268,7 @@ std::vector<SettingSpec> make_schema() {
                  v.ingest.name_pattern = p;
                },
                [](const Settings& v) { return v.ingest.name_pattern; }, nullptr});
+  s.back().shapes_file = false;  // where the outputs go
   for (const bool colour : {false, true}) {
     s.push_back(
         {colour ? "colour_names" : "data_names", colour ? "--colour-names" : "--data-names",
@@ -286,6 +284,9 @@ std::vector<SettingSpec> make_schema() {
          [colour](const Settings& v) { return colour ? v.colour_names : v.data_names; },
          [colour](const Settings& v) { return !(colour ? v.colour_names : v.data_names).empty(); },
          "the table in the README"});
+    // Decisions: recorded by what they resolve to for each file (its mode, or data skipped),
+    // so a changed table redoes only the files it decides otherwise.
+    s.back().shapes_file = false;
   }
   s.push_back({"data", "--data", "ACTION", "",
                "Non-colour files (data colour spaces, data names): skip or copy them unchanged",
@@ -295,15 +296,18 @@ std::vector<SettingSpec> make_schema() {
                },
                [](const Settings& v) { return std::string(v.ingest.copy_data ? "copy" : "skip"); },
                nullptr});
+  s.back().shapes_file = false;  // what happens to data files, not to spectral ones
   s.push_back({"jobs", "--jobs", "N", "",
                "Files converted at once (0: one per core; each gets its share of --threads)",
                kIngest, false, false,
                [](Settings& v, std::string_view t) { v.ingest.jobs = whole(t, 0, 256); },
                [](const Settings& v) { return std::to_string(v.ingest.jobs); }, nullptr});
+  s.back().shapes_file = false;  // how the batch runs
   s.push_back({"method", "--method", "METHOD", "method",
-               "table (exact interpolation of cached node spectra) or exact (every distinct "
-               "colour solved directly; slow, for comparison)",
-               kImage | kIngest, true, false,
+               "table (the exact table's blend of node spectra, the spectra a renderer's table "
+               "file gives) or exact (every distinct colour solved directly: double precision "
+               "and the model's details; slow)",
+               kImage | kIngest | kColor | kPlotColor, true, false,
                [](Settings& v, std::string_view t) {
                  v.method = choice(t, {"table", "exact"}) == "table" ? SpectralTable::Method::table
                                                                      : SpectralTable::Method::exact;
@@ -319,12 +323,14 @@ std::vector<SettingSpec> make_schema() {
                [](Settings& v, std::string_view t) { v.cache_dir = std::string(t); },
                [](const Settings& v) { return v.cache_dir; },
                [](const Settings& v) { return !v.cache_dir.empty(); }, "none"});
+  s.back().shapes_file = false;  // how the job runs (the spectra do not depend on it)
   s.push_back({"threads", "--threads", "N", "",
                "Cores to use: conversion and compression workers (0: all; 1: one core); the output "
                "does not depend on it",
-               kFileCommands, true, false,
+               kFileCommands | kTable, true, false,
                [](Settings& v, std::string_view t) { v.threads = whole(t, 0, 1024); },
                [](const Settings& v) { return std::to_string(v.threads); }, nullptr});
+  s.back().shapes_file = false;  // how the job runs (the output does not depend on it)
   s.push_back({"config", "--config", "FILE", "",
                "OCIO config (default: $OCIO, else the config shipped with spectralize)",
                kAllCommands, true, false,
@@ -332,6 +338,8 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return v.config; },
                [](const Settings& v) { return !v.config.empty(); },
                "$OCIO, else the shipped config", "--colorconfig"});
+  // The config enters ingest's key by its content (ColourSpaces::content_identity).
+  s.back().shapes_file = false;
   return s;
 }
 
@@ -404,6 +412,14 @@ std::vector<std::pair<std::string, std::string>> describe_settings(const Setting
     if (!s.applies(command) || !s.matters(settings) || (spectral_only && !s.spectral)) continue;
     out.emplace_back(std::string(s.key), setting_value(s, settings));
   }
+  return out;
+}
+
+std::vector<std::pair<const SettingSpec*, std::string>> file_settings(const Settings& resolved) {
+  std::vector<std::pair<const SettingSpec*, std::string>> out;
+  for (const SettingSpec& s : settings_schema())
+    if (s.shapes_file && s.applies(kImage) && s.matters(resolved))
+      out.emplace_back(&s, setting_value(s, resolved));
   return out;
 }
 

@@ -25,6 +25,7 @@ enum Command : unsigned {
   kPlotColor = 1u << 3,  // --color R,G,B -o PLOT
   kPlotPixel = 1u << 4,  // --plot-pixel X,Y IN.exr -o PLOT
   kIngest = 1u << 5,     // ingest SRC... -o DESTDIR
+  kTable = 1u << 6,      // table -o NAME.spztab (a render-time table, io/render_table.h)
 };
 
 /// How the mode is chosen.
@@ -85,6 +86,12 @@ struct SettingSpec {
   std::function<bool(const Settings&)> relevant;
   std::string_view default_text{};  // --help's default when format(Settings{}) does not say it
   std::string_view alias{};         // a second flag, in the OIIO tools' spelling (e.g. "-d")
+  // The written spectral file depends on it (when it matters): recorded in the header and part
+  // of ingest's up-to-date key. False only for how a job runs (threads, cache, jobs), where
+  // its outputs go, and the config (which enters the key by its content). A new setting
+  // shapes the file unless it says otherwise: at worst a needless conversion, never a stale
+  // file kept.
+  bool shapes_file = true;
 
   /// True when it applies to `command`. Cost: O(1).
   bool applies(Command command) const { return (commands & command) != 0; }
@@ -122,6 +129,13 @@ std::string setting_value(const SettingSpec& spec, const Settings& settings);
 std::vector<std::pair<std::string, std::string>> describe_settings(const Settings& settings,
                                                                    Command command,
                                                                    bool spectral_only = false);
+
+/// The settings that shape a written spectral file, as resolved for it (mode resolved in
+/// settings.spectral.mode; colorspace and preview_colorspace the spaces decided for the file):
+/// those that shape files, apply to the image job and matter for these settings, in schema
+/// order (spec, canonical value). What the file's header records and what ingest's up-to-date
+/// key hashes, so the two cannot drift apart. Cost: O(settings).
+std::vector<std::pair<const SettingSpec*, std::string>> file_settings(const Settings& resolved);
 
 /// Everything the node spectra of a table depend on, as text: the version, the spectral
 /// settings that matter (mode resolved in settings.spectral.mode) and the table's node layout.

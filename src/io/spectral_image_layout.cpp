@@ -57,13 +57,13 @@ SpectralExrLayout::SpectralExrLayout(const LayoutRequest& r) : preview_(r.previe
   spec_.attribute("Software", "spectralize " SPECTRALIZE_VERSION);
   spec_.attribute("DateTime", r.date_time);
   spec_.attribute("spectralize:version", SPECTRALIZE_VERSION);
-  // The settings the spectra were made with, from the schema (docs/DESIGN.md §8).
-  for (const SettingSpec& setting : settings_schema())
-    if (!setting.attribute.empty() && setting.applies(kImage) && setting.matters(s))
-      spec_.attribute("spectralize:" + std::string(setting.attribute), setting_value(setting, s));
-  spec_.attribute("spectralize:colorspace", r.input_colorspace);
-  spec_.attribute("spectralize:previewColorSpace", preview_);
+  // The settings the file was made with, as resolved for it, from the schema (docs/DESIGN.md
+  // §8): the same list ingest's up-to-date key hashes (file_settings).
+  for (const auto& [setting, value] : file_settings(s))
+    if (!setting->attribute.empty())
+      spec_.attribute("spectralize:" + std::string(setting->attribute), value);
   for (const auto& [name, value] : r.attributes) spec_.attribute(name, value);
+  for (const auto& [name, value] : r.numbers) spec_.attribute(name, OIIO::TypeDesc::DOUBLE, &value);
   tag_colour_space(spec_, r.spaces, preview_);
 }
 

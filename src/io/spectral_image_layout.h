@@ -9,6 +9,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
@@ -36,12 +38,15 @@ class SpectralImageLayout {
 struct LayoutRequest {
   const OIIO::ImageSpec& input;  // windows and descriptive metadata to carry over
   bool alpha = false;            // the input has alpha
-  const Settings& settings;      // sample type, compression, tiling; the settings written
-  std::string input_colorspace;  // recorded as spectralize:colorspace
+  // Sample type, compression, tiling; the settings written, as resolved for the file (its
+  // colorspace and preview_colorspace are the spaces decided for it).
+  const Settings& settings;
+  std::string input_colorspace;
   std::string preview_colorspace;
-  const ColourSpaces& spaces;                          // to tag the previews
-  std::string date_time;                               // EXIF DateTime
-  std::map<std::string, std::string> attributes = {};  // more string attributes to record
+  const ColourSpaces& spaces;                                // to tag the previews
+  std::string date_time;                                     // EXIF DateTime
+  std::map<std::string, std::string> attributes = {};        // more string attributes to record
+  std::vector<std::pair<std::string, double>> numbers = {};  // and double ones
 };
 
 /// The spectral OpenEXR layout: R, G, B previews (tagged with their colour space), A when the

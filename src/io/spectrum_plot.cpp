@@ -488,13 +488,13 @@ std::vector<std::string> write_svg(const SpectrumPlot& plot, const std::string& 
       "  <title>{2}</title>\n"
       "{3}</svg>\n",
       kPlotWidth, kPlotHeight, xml_escape(title), painter.body);
-  AtomicOutput file(path, inputs, /*allow_stream=*/true);
+  AtomicOutput file(path, WriteRules::named("the plot").streams(), inputs);
   file.write(svg);
   file.commit();
   std::vector<std::string> warnings;
   if (cs.spaces->interop_id(cs.encoded) != "srgb_rec709_scene")
-    warnings.push_back("'" + clip(path, 200) +
-                       "': SVG colours are sRGB, but the plot's colours are in '" + cs.encoded +
+    warnings.push_back(quote(path, 200) +
+                       ": SVG colours are sRGB, but the plot's colours are in '" + cs.encoded +
                        "' (the config's display-referred role): they will look wrong");
   return warnings;
 }

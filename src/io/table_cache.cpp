@@ -25,7 +25,7 @@ std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 146959
 }
 
 constexpr char kMagic[16] = "SPECTRALIZE-TBL";  // 15 chars + NUL
-constexpr std::uint32_t kFormatVersion = 2;
+constexpr std::uint32_t kFormatVersion = 3;     // 3: nodes of the exact table (docs/DESIGN.md §14)
 constexpr std::size_t kMaxKey = 4096;
 
 // File layout: magic[16], u32 version, u64 key length, key, u64 bands, u64 entries, then per
@@ -98,10 +98,10 @@ std::string load_table_cache(SpectralTable& table, const std::string& file,
       std::uint8_t feasible;
       take(&index, 8);
       take(&feasible, 1);
-      if (feasible) take(values.data(), values.size() * sizeof(float));
+      if (!feasible) return "node " + std::to_string(index) + " has no spectrum";
+      take(values.data(), values.size() * sizeof(float));
       // Each node must reproduce its own colour: a valid checksum does not make spectra right.
-      if (!table.adopt_node(index,
-                            feasible ? std::span<const float>(values) : std::span<const float>()))
+      if (!table.adopt_node(index, std::span<const float>(values)))
         return "node " + std::to_string(index) +
                " is not the spectrum of its colour (a poisoned or foreign table)";
     }
@@ -138,7 +138,10 @@ std::string save_table_cache(const SpectralTable& table, const std::string& file
   const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
   put(&sum, 8);
   try {
-    AtomicOutput out(file, {});
+    // The cache folder is the user's; the file in it is named by spectralize, so a link there is
+    // not followed.
+    AtomicOutput out(file, WriteRules::named("a node cache file")
+                               .below(std::filesystem::path(file).parent_path().string()));
     out.write(bytes);
     out.commit();
   } catch (const Error& e) {

@@ -2,21 +2,36 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "io/table_cache.h"
 
 namespace fs = std::filesystem;
 
 namespace spectralize {
 
-TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
+TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log) {
+  // The table's layout follows from the same settings and the frame: they find the entry again
+  // without building a spectralizer.
+  std::string seen = table_cache_key(s, "") + "; method " +
+                     (s.method == SpectralTable::Method::exact ? "exact" : "table") + "; cache " +
+                     s.cache_dir + "; frame";
+  for (double v : frame) seen += fmt::format(" {}", v);  // shortest round-trip form
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = seen_.find(seen); it != seen_.end()) return *it->second;
+  }
   // The key names everything the node spectra depend on (and the method: exact tables differ).
   auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
-  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method);
+  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method, frame);
   const std::string key = table_cache_key(s, table->layout()) +
                           (s.method == SpectralTable::Method::exact ? "; exact" : "");
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = entries_.find(key);
-  if (it != entries_.end()) return *it->second;
+  if (it != entries_.end()) {
+    seen_[seen] = it->second.get();
+    return *it->second;
+  }
   auto entry = std::make_unique<Entry>();
   entry->key = key;
   entry->spectralizer = std::move(spectralizer);
@@ -39,6 +54,7 @@ TablePool::Entry& TablePool::get(const Settings& s, const LogFn& log) {
   }
   Entry& ref = *entry;
   entries_[key] = std::move(entry);
+  seen_[seen] = &ref;
   return ref;
 }
 

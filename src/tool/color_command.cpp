@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
+#include "io/json_text.h"
 #include "io/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -71,17 +72,22 @@ int run_color(const Options& opt) {
   const std::string ext = std::filesystem::path(opt.output).extension().string();
   const bool json = opt.given.count("--format") ? opt.settings.json : ext == ".json";
   const ColourInputs in = colour_inputs(opt);
-  const auto& [settings, colours, spaces, to_xyz] = in;
+  const auto& [settings, colours, spaces, to_xyz, frame] = in;
   // The destination is checked before any work (a file, or a stream such as /dev/stdout).
   std::unique_ptr<AtomicOutput> file;
   if (!opt.output.empty())
-    file = std::make_unique<AtomicOutput>(opt.output, std::vector<std::string>{}, true);
+    file =
+        std::make_unique<AtomicOutput>(opt.output, WriteRules::named("the output (-o)").streams());
 
   Spectralizer spectralizer(settings);
+  // The exact table, as images and renderers' table files give spectra (--method exact: solved).
+  std::unique_ptr<SpectralTable> table;
+  if (opt.settings.method == SpectralTable::Method::table)
+    table = std::make_unique<SpectralTable>(spectralizer, SpectralTable::Method::table, frame);
   std::vector<SpectrumResult> results;
   int status = kExitOk;
   for (const Rgb& c : colours)
-    results.push_back(spectralize_colour(spectralizer, to_xyz, c, status));
+    results.push_back(spectralize_colour(spectralizer, table.get(), to_xyz, c, status));
 
   std::string text;
   const auto& grid = settings.grid;
@@ -89,7 +95,7 @@ int run_color(const Options& opt) {
     Json out = Json::array();
     for (std::size_t i = 0; i < results.size(); ++i)
       out.push_back(result_json(colours[i], to_xyz.source(), opt, spectralizer, results[i]));
-    text = (results.size() == 1 ? out[0] : out).dump(2) + "\n";
+    text = dump_json(results.size() == 1 ? out[0] : out, 2) + "\n";
   } else {
     text = "wavelength_nm";
     for (std::size_t c = 0; c < results.size(); ++c)

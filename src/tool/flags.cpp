@@ -7,11 +7,13 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <vector>
 
 #include "io/input_interpretation.h"
+#include "io/render_table.h"
 #include "io/safe_output.h"
 
 namespace spectralize::tool {
@@ -23,7 +25,7 @@ ColourInputs colour_inputs(const Options& opt) {
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
   ColourSpaces spaces = load_config(opt);
-  ColourTransform to_xyz = flag_value("--colorspace", [&] {
+  ColourTransform to_xyz = usage_checked("--colorspace", [&] {
     const std::string space = opt.settings.colorspace.empty()
                                   ? default_colour_space(spaces, true).first
                                   : opt.settings.colorspace;
@@ -35,13 +37,29 @@ ColourInputs colour_inputs(const Options& opt) {
                  spaces.resolve(space));
     return spaces.to_xyz(space);
   });
-  return {std::move(settings), std::move(colours), std::move(spaces), std::move(to_xyz)};
+  const Mat3 frame = table_frame(spaces, to_xyz.source());
+  return {std::move(settings), std::move(colours), std::move(spaces), std::move(to_xyz), frame};
 }
 
-SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
-                                  const Rgb& c, int& status) {
+SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTable* table,
+                                  const ColourTransform& to_xyz, const Rgb& c, int& status) {
   const Xyz xyz = to_xyz(c.r, c.g, c.b);
-  SpectrumResult r = spectralizer.spectralize(xyz);
+  SpectrumResult r;
+  if (table) {
+    // The table's spectrum (float), with what the Spectralizer says about the colour.
+    r = spectralizer.classify(xyz);
+    std::vector<float> v(spectralizer.settings().grid.size());
+    PixelResult pixel;
+    table->spectra(&xyz, 1, v.data(), &pixel);
+    // Printed as the float it is (shortest text that reads back as that float).
+    for (std::size_t i = 0; i < v.size(); ++i)
+      r.values[i] = std::strtod(fmt::format("{}", v[i]).c_str(), nullptr);
+    if (r.status == Status::ok || r.status == Status::out_of_gamut) r.target = pixel.target;
+    r.xyz = spectralizer.weights().integrate(r.values);
+    r.relative_error = r.target.max_abs() > 0 ? relative_error(r.xyz, r.target) : 0.0;
+  } else {
+    r = spectralizer.spectralize(xyz);
+  }
   if (r.status == Status::out_of_gamut) {
     std::string hint;
     // A reflectance far above white is usually 0..255 or 0..65535 data given as 0..1.
@@ -93,7 +111,13 @@ Rgb parse_rgb(const std::string& text) {
 
 ColourSpaces load_config(const Options& opt) {
   if (opt.settings.config.empty()) return ColourSpaces::load();
-  return flag_value("--config", [&] { return ColourSpaces::load(opt.settings.config); });
+  // A config that does not load is the job's failure (exit 1); a value that names no config
+  // file at all (ocio://...) is the command line's (exit 2).
+  try {
+    return usage_checked("--config", [&] { return ColourSpaces::load(opt.settings.config); });
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("--config: ") + e.what());
+  }
 }
 
 LogFn console_log(int verbosity) {

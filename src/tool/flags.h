@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/spectral_table.h"
 #include "core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/job_log.h"
@@ -13,16 +14,21 @@
 
 namespace spectralize::tool {
 
-/// Runs `fn`, turning the core's configuration errors into usage errors naming the flag; a
-/// ConfigError (the OCIO config's own fault) passes unchanged. Cost: that of fn.
+/// Runs `fn`, turning a mistake in a command-line value (an Error) into a UsageError (exit 2),
+/// prefixed "<flag>: " when a flag is given; a FileError (a file that cannot be read or written)
+/// and a ConfigError (the OCIO config's own fault, or a config that does not load) are job
+/// failures (exit 1) and pass unchanged. The one place that decides which errors are the
+/// command line's: main() maps UsageError to 2 and every other error to 1. Cost: that of fn.
 template <typename Fn>
-auto flag_value(const char* flag, Fn&& fn) {
+auto usage_checked(std::string_view flag, Fn&& fn) {
   try {
     return fn();
   } catch (const ConfigError&) {
-    throw;  // the config's fault, not the flag's
+    throw;
+  } catch (const FileError&) {
+    throw;
   } catch (const Error& e) {
-    throw UsageError{std::string(flag) + ": " + e.what()};
+    throw UsageError{flag.empty() ? std::string(e.what()) : std::string(flag) + ": " + e.what()};
   }
 }
 
@@ -37,24 +43,28 @@ struct Rgb {
 Rgb parse_rgb(const std::string& text);
 
 /// What every --color command needs: the spectralizer settings (mode auto meaning emission),
-/// the parsed colours, the config and the transform of --colorspace (default: the config's
-/// scene_linear role) to XYZ. UsageError for a mistake. Cost: parsing the config, ~ms.
+/// the parsed colours, the config, the transform of --colorspace (default: the config's
+/// scene_linear role) to XYZ and the RGB frame of its exact table (io/render_table.h).
+/// UsageError for a mistake. Cost: parsing the config, ~ms.
 struct ColourInputs {
   SpectralizerSettings settings;
   std::vector<Rgb> colours;
   ColourSpaces spaces;
   ColourTransform to_xyz;
+  Mat3 frame;
 };
 ColourInputs colour_inputs(const Options& options);
 
-/// The spectrum of one --color value; warns on stderr when it was out of gamut and mapped (and
-/// says when a reflectance was brighter than white), reports an error and sets `status` to
-/// kExitFailure when it is invalid. Cost: one solve.
-SpectrumResult spectralize_colour(const Spectralizer& spectralizer, const ColourTransform& to_xyz,
-                                  const Rgb& colour, int& status);
+/// The spectrum of one --color value: the exact table's (`table`; the spectra images and a
+/// renderer's table file give) or, with `table` null (--method exact), a direct solve with the
+/// model's details. Warns on stderr when it was out of gamut and mapped (and says when a
+/// reflectance was brighter than white), reports an error and sets `status` to kExitFailure
+/// when it is invalid. Cost: a cell's node solves on first use (~40 us each), or one solve.
+SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTable* table,
+                                  const ColourTransform& to_xyz, const Rgb& colour, int& status);
 
-/// The OCIO config of --config (a usage error if unreadable), else $OCIO or the shipped one.
-/// Cost: parsing the config, ~ms.
+/// The OCIO config of --config, else $OCIO or the shipped one; one that does not load is a
+/// ConfigError (exit 1). Cost: parsing the config, ~ms.
 ColourSpaces load_config(const Options& options);
 
 /// Warnings unless -q; stage details (levels 1 and 2) with -v. Cost: O(1).

@@ -21,18 +21,26 @@ namespace spectralize::tool {
 namespace {
 
 // The report's destination, checked (and its temporary file created) before any work: never
-// the input or the output under any alias; /dev/stdout and /dev/null work as streams.
+// the input, its config or the output under any alias (the run's registry, io/safe_output.h:
+// the output is claimed as soon as its job opens it, and the report is claimed here, first);
+// /dev/stdout and /dev/null work as streams.
 std::unique_ptr<AtomicOutput> open_report(const Options& opt, const std::string& input) {
   if (opt.report.empty()) return nullptr;
-  // Compared where each would be written: through links, also links to files not yet there.
-  if (link_target(opt.report) == link_target(opt.output) || same_file(opt.report, opt.output))
-    throw Error("--report '" + clip(opt.report) +
-                "': is the output file; refusing to overwrite it");
-  const std::string inputs[] = {input, opt.output};
+  const std::string inputs[] = {input};
+  // The output's place, planned against the report's before either is written.
+  FilePlan plan;
+  plan.read(input, "the input");
+  if (std::string why = plan.write(opt.output, "the output (-o)"); !why.empty())
+    throw FileError(why);
+  if (std::string why =
+          plan.write(opt.report, "the report", WriteRules::named("the report").streams());
+      !why.empty())
+    throw FileError("--report " + why);
   try {
-    return std::make_unique<AtomicOutput>(opt.report, inputs, /*allow_stream=*/true);
-  } catch (const Error& e) {
-    throw Error(std::string("--report ") + e.what());
+    return std::make_unique<AtomicOutput>(
+        opt.report, WriteRules::named("the report (--report)").streams(), inputs);
+  } catch (const FileError& e) {
+    throw FileError(std::string("--report ") + e.what());
   }
 }
 
@@ -42,31 +50,23 @@ void write_report(AtomicOutput* report, const std::string& json) {
   if (report) report->write(json + "\n");
 }
 
-// The command line's settings, checked before any work: a mistake is a usage error (exit 2).
-template <class Fn>
-Settings usage_checked(Fn&& fn) {
-  try {
-    return fn();
-  } catch (const Error& e) {
-    throw UsageError{e.what()};
-  }
-}
-
 const OptionNames kFlagNames{"--", "-o"};
 
 }  // namespace
 
 int run_to_rgb(const Options& opt) {
   if (opt.output.empty()) throw UsageError{"-o OUTPUT is required"};
-  const Settings s = usage_checked([&] {
+  const Settings s = usage_checked("", [&] {
     return checked_to_rgb_settings(
         opt.settings, opt.output, opt.given.count("--format") || opt.given.count("-d"), kFlagNames);
   });
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);
-  const ToRgbReport r = run_to_rgb_job(
-      opt.to_rgb, opt.output, s, console_progress(opt.verbosity, opt.to_rgb), log,
-      [&](const ToRgbReport& done) { write_report(report.get(), report_json(done)); });
+  const ToRgbReport r =
+      run_to_rgb_job(opt.to_rgb, opt.output, s, console_progress(opt.verbosity, opt.to_rgb), log,
+                     [&](const ToRgbReport& done) {
+                       if (report) write_report(report.get(), report_json(done));
+                     });
   if (report) report->commit();
   if (opt.verbosity > 0)
     fmt::print(
@@ -85,13 +85,17 @@ int run_image(const Options& opt) {
                          : fmt::format("one input image at a time, got {}", opt.inputs.size())};
   if (opt.output.empty()) throw UsageError{"-o OUTPUT.exr is required"};
   const std::string& input = opt.inputs[0];
-  const Settings s =
-      usage_checked([&] { return checked_image_settings(opt.settings, opt.output, kFlagNames); });
+  const Settings s = usage_checked(
+      "", [&] { return checked_image_settings(opt.settings, opt.output, kFlagNames); });
   auto report = open_report(opt, input);
   const LogFn log = console_log(opt.verbosity);
-  const ImageReport r = run_image_job(
-      input, opt.output, s, console_progress(opt.verbosity, input), log, nullptr, {},
-      [&](const ImageReport& done) { write_report(report.get(), report_json(done)); });
+  ImageJobOptions options;
+  options.output.what = "the output (-o)";
+  options.before_commit = [&](const ImageReport& done) {
+    if (report) write_report(report.get(), report_json(done));
+  };
+  const ImageReport r =
+      run_image_job(input, opt.output, s, console_progress(opt.verbosity, input), log, options);
   if (report) report->commit();
   const PixelCounts& c = r.counts;
   if (opt.verbosity > 0) {

@@ -30,10 +30,10 @@ struct CommandFlag {
 };
 constexpr unsigned kPlots = kPlotColor | kPlotPixel;
 constexpr CommandFlag kCommandFlags[] = {
-    {"-o", "FILE", kImage | kToRgb | kColor | kPlots | kIngest,
+    {"-o", "FILE", kImage | kToRgb | kColor | kPlots | kIngest | kTable,
      "The file to write: the spectral OpenEXR (images), the RGB image (--to-rgb), a plot "
-     "(.png, .svg, ...), the printed spectra (--color: .csv, .json), or the folder ingest "
-     "writes into"},
+     "(.png, .svg, ...), the printed spectra (--color: .csv, .json), the folder ingest "
+     "writes into, or the table (NAME.spztab)"},
     {"--inputs-from", "FILE", kIngest,
      "ingest: a list of inputs, one per line: a path, or a JSON object with \"input\" and any "
      "single-file setting for it"},
@@ -68,6 +68,8 @@ std::string command_name(Command c) {
       return "--plot-pixel";
     case kIngest:
       return "ingest";
+    case kTable:
+      return "table";
   }
   return "this command";
 }
@@ -76,7 +78,8 @@ std::string commands_list(unsigned commands) {
   std::string out;
   const std::pair<unsigned, const char*> names[] = {
       {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
-      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"}};
+      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
+      {kTable, "table"}};
   for (const auto& [bit, name] : names)
     if ((commands & bit) && !(bit == kPlotColor && (commands & kColor)))
       out += (out.empty() ? "" : ", ") + std::string(name);
@@ -133,11 +136,14 @@ void print_help() {
       "  spectralize --plot-pixel X,Y IN.exr -o PLOT.png       a plot of a pixel of a "
       "spectral EXR\n"
       "  spectralize ingest SRC... -o DESTDIR [options]        a texture library (files, folders,\n"
-      "                                                        globs) to spectral OpenEXR\n\n"
+      "                                                        globs) to spectral OpenEXR\n"
+      "  spectralize table -o NAME.spztab [options]            a render-time table of exact\n"
+      "                                                        spectra (spectralize/rt.h)\n\n"
       "Flags by command:\n");
   const std::pair<unsigned, const char*> groups[] = {
       {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
-      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"}};
+      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
+      {kTable, "table"}};
   for (const auto& [command, name] : groups) {
     std::string flags;
     for (const CommandFlag& f : kCommandFlags)
@@ -249,6 +255,10 @@ Command choose_command(Options& opt) {
     opt.inputs.erase(opt.inputs.begin());
     return kIngest;
   }
+  if (!opt.inputs.empty() && opt.inputs[0] == "table") {
+    opt.inputs.erase(opt.inputs.begin());
+    return kTable;
+  }
   if (opt.force || opt.merge)
     throw UsageError{std::string(opt.force ? "--force" : "--merge") + " belongs to ingest"};
   if (!opt.plot_pixels.empty()) return kPlotPixel;
@@ -290,11 +300,7 @@ void apply_flags(const Given& given, Options& opt) {
     if (!spec)
       throw UsageError{flag + " does not apply to " + command_name(opt.command) +
                        " (it applies to " + commands_list(flag_commands(flag)) + ")"};
-    try {
-      apply_setting(opt.settings, *spec, value, flag);
-    } catch (const Error& e) {
-      throw UsageError{e.what()};
-    }
+    usage_checked("", [&] { apply_setting(opt.settings, *spec, value, flag); });
   }
 }
 
@@ -358,6 +364,9 @@ int main(int argc, const char** argv) {
         break;
       case kIngest:
         status = run_ingest_command(opt);
+        break;
+      case kTable:
+        status = run_table(opt);
         break;
       default:
         status = run_image(opt);

@@ -59,6 +59,10 @@ int run_plot_color(const Options& options);
 /// Cost: the conversions.
 int run_ingest_command(const Options& options);
 
+/// Runs `spectralize table -o NAME.spztab`: the render-time table of a colour space. Returns
+/// the exit status; throws UsageError / Error. Cost: building the table, a few seconds.
+int run_table(const Options& options);
+
 /// Runs `spectralize --plot-pixel X,Y IN.exr -o PLOT.png|.svg`: the spectrum of a pixel of any
 /// spectral EXR. Returns the exit status; throws UsageError / Error. Cost: reading the rows of
 /// the pixels plus the drawing.

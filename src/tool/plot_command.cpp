@@ -158,11 +158,14 @@ int run_plot_color(const Options& opt) {
     throw UsageError{fmt::format("--color: a plot shows at most {} colours, got {}", kMaxPlotCurves,
                                  opt.colors.size())};
   const ColourInputs in = colour_inputs(opt);
-  const auto& [settings, colours, spaces, to_xyz] = in;
+  const auto& [settings, colours, spaces, to_xyz, frame] = in;
   const PlotSpaces cs = plot_spaces(spaces);
   const SwatchColours swatch(cs);
 
   Spectralizer spectralizer(settings);
+  std::unique_ptr<SpectralTable> table;
+  if (opt.settings.method == SpectralTable::Method::table)
+    table = std::make_unique<SpectralTable>(spectralizer, SpectralTable::Method::table, frame);
   // The spectrum's XYZ is in the target's terms; a reflectance's target is white balanced to
   // the reference illuminant, so undo that to compare with the input (emission: factor 1).
   const Xyz unbalance = spectralizer.unbalance();
@@ -177,7 +180,7 @@ int run_plot_color(const Options& opt) {
   std::vector<std::string> results;  // one-colour details for the title
   for (std::size_t i = 0; i < colours.size(); ++i) {
     const Rgb& c = colours[i];
-    const SpectrumResult r = spectralize_colour(spectralizer, to_xyz, c, status);
+    const SpectrumResult r = spectralize_colour(spectralizer, table.get(), to_xyz, c, status);
     PlotCurve curve;
     curve.label = c.text + (r.status == Status::ok || r.status == Status::black
                                 ? ""
@@ -314,7 +317,8 @@ int run_plot_pixel(const Options& opt) {
   if (scaled) plot.notes.push_back("bright lights scaled to fit");
   apply_scale(opt, plot);
   if (csv) {
-    AtomicOutput out(opt.output, std::span<const std::string>(&file, 1), /*allow_stream=*/true);
+    AtomicOutput out(opt.output, WriteRules::named("the plot (-o)").streams(),
+                     std::span<const std::string>(&file, 1));
     out.write(plot_csv(plot));
     out.commit();
     return kExitOk;

@@ -2,16 +2,19 @@
 // (raw float32 R,G,B triples from a file) through ColourArrays, the path spectralize.spectra()
 // takes, and through the bare SpectralTable (XYZ in, no OCIO), warm, timed over `runs` calls.
 // Prints one line per path: "<name> <colours> <median seconds>".
-// Usage: bench_colour_arrays COLOURS.f32 RUNS
+// Usage: bench_colour_arrays COLOURS.f32 RUNS [emission|reflectance]
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <string>
 #include <vector>
 
+#include "core/spectral_table.h"
 #include "io/colour_array.h"
+#include "io/table_pool.h"
 
 using namespace spectralize;
 
@@ -32,8 +35,8 @@ double median_seconds(int runs, Fn&& fn) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: bench_colour_arrays COLOURS.f32 RUNS\n");
+  if (argc != 3 && argc != 4) {
+    std::fprintf(stderr, "usage: bench_colour_arrays COLOURS.f32 RUNS [emission|reflectance]\n");
     return 2;
   }
   std::ifstream in(argv[1], std::ios::binary | std::ios::ate);
@@ -44,8 +47,12 @@ int main(int argc, char** argv) {
   const std::size_t n = colours.size() / 3;
   const int runs = std::atoi(argv[2]);
 
+  const Mode mode =
+      argc > 3 && std::string(argv[3]) == "reflectance" ? Mode::reflectance : Mode::emission;
+  Settings settings;
+  settings.spectral.mode = mode;
   TablePool pool;
-  ColourArrays arrays(Settings{}, pool, [](int, const std::string&) {});
+  ColourArrays arrays(settings, pool, [](int, const std::string&) {});
   std::vector<float> out(n * arrays.bands());
   arrays.spectra(colours.data(), n, out.data());  // warm: every node the colours need
   std::printf("cpp_colour_arrays %zu %.6f\n", n,
@@ -53,11 +60,15 @@ int main(int argc, char** argv) {
 
   // The bare table on the same colours as XYZ (what the image kernel's table step costs).
   Settings s;
-  s.spectral.mode = Mode::emission;
-  TablePool::Entry& e = pool.get(s, [](int, const std::string&) {});
-  std::vector<Xyz> xyz(n);
-  for (std::size_t i = 0; i < n; ++i)
-    xyz[i] = {colours[i * 3], colours[i * 3 + 1], colours[i * 3 + 2]};
+  s.spectral.mode = mode;
+  TablePool::Entry& e = pool.get(s, kRec709Frame, [](int, const std::string&) {});
+  std::vector<Xyz> xyz(n);  // Linear Rec.709 -> XYZ (the frame's matrix)
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* c = &colours[i * 3];
+    xyz[i] = {kRec709Frame[0] * c[0] + kRec709Frame[1] * c[1] + kRec709Frame[2] * c[2],
+              kRec709Frame[3] * c[0] + kRec709Frame[4] * c[1] + kRec709Frame[5] * c[2],
+              kRec709Frame[6] * c[0] + kRec709Frame[7] * c[1] + kRec709Frame[8] * c[2]};
+  }
   std::vector<PixelResult> results(n);
   e.table->spectra(xyz.data(), n, out.data(), results.data());
   std::printf("cpp_table_single_thread %zu %.6f\n", n, median_seconds(runs, [&] {

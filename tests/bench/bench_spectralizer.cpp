@@ -5,15 +5,24 @@
 
 #include <benchmark/benchmark.h>
 
+#include <spectralize/rt.hpp>
+
+#include <algorithm>
 #include <array>
+#include <atomic>
+#include <cstring>
+#include <functional>
+#include <thread>
 #include <vector>
 
 #include "baseline/sigmoid_spectrum.h"
 #include "bench_colours.h"
+#include "core/exact_table.h"
 #include "core/exemplar_model.h"
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
 #include "core/spectralizer.h"
+#include "core/table_file.h"
 
 using namespace spectralize;
 using bench::rec709;
@@ -141,7 +150,11 @@ void BM_ExemplarNearMeasured(benchmark::State& state) {
 // cells); 0: 64k independent random linear sRGB colours (every pixel a cache miss, worst case).
 // The pixels of the table benchmarks, linear Rec.709 RGB in [0, 1]: a 256x256 smooth colour
 // field with 2% noise (image) or 64k independent random colours.
-std::vector<std::array<float, 3>> benchmark_pixels(bool image) {
+// kind 1: image-like (a smooth walk through the cube with a little noise); 0: independent
+// random colours; 2: random colours with a channel above 0.95 (cells at the reflectance
+// solid's boundary in sRGB).
+std::vector<std::array<float, 3>> benchmark_pixels(int kind) {
+  const bool image = kind == 1;
   std::vector<std::array<float, 3>> pixels(1 << 16);
   std::uint32_t seed = 12345;
   auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
@@ -151,7 +164,9 @@ std::vector<std::array<float, 3>> benchmark_pixels(bool image) {
       pixels[i] = {float(0.1 + 0.8 * u + 0.02 * rnd()), float(0.2 + 0.6 * v + 0.02 * rnd()),
                    float(0.5 - 0.3 * u * v + 0.02 * rnd())};
     } else {
-      pixels[i] = {float(rnd()), float(rnd()), float(rnd())};
+      do {
+        pixels[i] = {float(rnd()), float(rnd()), float(rnd())};
+      } while (kind == 2 && std::max({pixels[i][0], pixels[i][1], pixels[i][2]}) <= 0.95f);
     }
   }
   return pixels;
@@ -213,8 +228,93 @@ void BM_SigmoidTableFetch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
 }
 
+// The render-time table (include/spectralize/rt.hpp) of linear sRGB reflectances, as
+// `spectralize table` makes it (built before timing, read from memory by the evaluator).
+const spz::TableView& srgb_table() {
+  static const std::string bytes = [] {
+    SpectralizerSettings s;
+    s.mode = Mode::reflectance;
+    static const Spectralizer sp(s);
+    Mat3 frame;
+    for (int i = 0; i < 9; ++i) frame[i] = bench::kRec709ToXyz[i / 3][i % 3];
+    ExactTable table(sp, frame);
+    table.build([](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
+      std::atomic<std::size_t> next{0};
+      std::vector<std::thread> pool;
+      for (int t = 0; t < 2; ++t)
+        pool.emplace_back([&] {
+          for (std::size_t b; (b = next.fetch_add(64)) < n;) body(b, std::min(n, b + 64));
+        });
+      for (auto& t : pool) t.join();
+    });
+    return encode_table_file(table, sp, {"Linear Rec.709 (sRGB)", "lin_rec709_scene"});
+  }();
+  static const std::vector<std::uint64_t> aligned = [] {
+    std::vector<std::uint64_t> a(bytes.size() / 8 + 1);
+    std::memcpy(a.data(), bytes.data(), bytes.size());
+    return a;
+  }();
+  static spz::TableView view;
+  static const bool ok = view.open(aligned.data(), bytes.size(), nullptr, 0);
+  if (!ok) std::abort();
+  return view;
+}
+
+// spz_fetch + spz_eval4 (bands 4: the same hero wavelengths per pixel as BM_SigmoidTableFetch)
+// or + the 81 samples (bands 81), one thread, the same pixels: against BM_SigmoidTableFetch.
+void BM_SpzFetch(benchmark::State& state) {
+  const spz::TableView& table = srgb_table();
+  const auto pixels = benchmark_pixels(state.range(0));
+  const int bands = static_cast<int>(state.range(1));
+  std::vector<float> nm(pixels.size() * 4);
+  std::uint32_t seed = 777;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
+    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
+  }
+  std::vector<float> out(pixels.size() * bands);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      spz::Spectrum s;
+      table.fetch(pixels[i].data(), s);
+      if (bands == 4)
+        spz::eval4(s, &nm[4 * i], &out[4 * i]);
+      else
+        spz::samples(s, &out[81 * i]);
+    }
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
+}
+
+// Whole 81-band spectra into an array, by threads: each thread fills its own array with the
+// spectra of the 65,536 image-like colours (as a renderer's workers would); items are summed
+// over the threads, per second of wall time.
+void BM_SpzSpectraArray(benchmark::State& state) {
+  const spz::TableView& table = srgb_table();
+  static const auto pixels = benchmark_pixels(1);
+  std::vector<float> out(pixels.size() * 81);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      spz::Spectrum s;
+      table.fetch(pixels[i].data(), s);
+      spz::samples(s, &out[81 * i]);
+    }
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
+}
+
 }  // namespace
 
+BENCHMARK(BM_SpzFetch)
+    ->ArgNames({"image", "bands"})
+    ->Args({1, 4})
+    ->Args({0, 4})
+    ->Args({1, 81})
+    ->Args({0, 81})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SpzSpectraArray)->Threads(1)->Threads(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SigmoidTableFetch)
     ->ArgNames({"image", "bands"})
     ->Args({1, 4})
@@ -228,6 +328,14 @@ BENCHMARK(BM_TableSynthesis)
     ->Args({1, 1})
     ->Args({0, 0})
     ->Args({1, 0})
+    ->Args({0, 2})
+    ->Args({1, 2})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TableSynthesis)
+    ->Name("BM_TableSynthesis/threads")
+    ->Args({1, 1})
+    ->Threads(2)
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NaiveInverses)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SumAdmissible)->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMicrosecond);

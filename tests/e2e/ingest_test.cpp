@@ -51,13 +51,17 @@ std::vector<Json> manifest(const std::string& path) {
   return out;
 }
 
-Json record(const std::vector<Json>& m, const std::string& input_suffix) {
+// The record whose `key` (a path) ends in `suffix`.
+Json record_of(const std::vector<Json>& m, const std::string& key, const std::string& suffix) {
   for (const Json& r : m)
-    if (r.contains("input") && r["input"].get<std::string>().size() >= input_suffix.size() &&
-        r["input"].get<std::string>().rfind(input_suffix) ==
-            r["input"].get<std::string>().size() - input_suffix.size())
+    if (r.contains(key) && r[key].get<std::string>().size() >= suffix.size() &&
+        r[key].get<std::string>().rfind(suffix) == r[key].get<std::string>().size() - suffix.size())
       return r;
   return Json();
+}
+
+Json record(const std::vector<Json>& m, const std::string& input_suffix) {
+  return record_of(m, "input", input_suffix);
 }
 
 TEST(Ingest, DecidesEachFileWithItsReasonAndMirrorsTheTree) {
@@ -66,7 +70,8 @@ TEST(Ingest, DecidesEachFileWithItsReasonAndMirrorsTheTree) {
   auto r = run("ingest " + (s / "lib") + " -o " + (s / "out"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto m = manifest(s / "out/spectralize-ingest.jsonl");
-  ASSERT_EQ(m.size(), 7u);  // six images (the .txt is not one) and the summary
+  ASSERT_EQ(m.size(), 8u);  // six images, the .txt left out (not an image), the summary
+  EXPECT_EQ(record_of(m, "left_out", "notes.txt")["kind"], "not_image");
   Json j = record(m, "brick_BaseColor.png");
   EXPECT_EQ(j["status"], "converted");
   EXPECT_EQ(j["output"], s / "out/walls/brick_BaseColor.exr");
@@ -368,7 +373,7 @@ TEST(Ingest, ListsShardsAndMerge) {
   r = run("ingest --merge -o " + (s / "sh"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto m = manifest(s / "sh/spectralize-ingest.jsonl");
-  EXPECT_EQ(m.size(), 7u);
+  EXPECT_EQ(m.size(), 8u);  // six files, the .txt left out, the summary
   EXPECT_EQ(m.back()["summary"]["converted"], 4);
   fs::remove(s / "sh/spectralize-ingest.part-2-of-3.jsonl");
   r = run("ingest --merge -o " + (s / "sh"));

@@ -321,8 +321,9 @@ TEST(Pipeline, TagsSayDisplayReferredAndReadBackAsTheExactSpace) {
 
 // Truth: an integer --to-rgb counts a pixel as clipped only when a value lies more than half a
 // code value outside 0..1 (a code is lost). The oracle: the same integration written as float
-// in the same encoding, counted by the test. A faithful round trip (values a hair below 0)
-// loses nothing; a sunset's sky loses codes in exactly the pixels the float file says.
+// in the same encoding, counted by the test. A faithful round trip (the 16-bit chart's values a
+// hair below 0) loses nothing; a sunset's sky loses codes in exactly the pixels the float file
+// says.
 TEST(Pipeline, ToRgbCountsOnlyClippingThatLosesCodes) {
   Scratch s;
   auto count = [](const std::string& path, double margin) {
@@ -338,7 +339,7 @@ TEST(Pipeline, ToRgbCountsOnlyClippingThatLosesCodes) {
     return n;
   };
   for (const auto& [image, source] :
-       {std::pair<std::string, std::string>{"cc", "colorchecker_srgb8.png"},
+       {std::pair<std::string, std::string>{"cc", "colorchecker_srgb16.png"},
         {"sun", "hdri_sunset_256x128.exr"}}) {
     ASSERT_EQ(run(kImages + source + " -o " + (s / (image + ".exr")) + " -q").exit_code, 0);
     auto r = run("--to-rgb " + (s / (image + ".exr")) + " -o " + (s / (image + ".png")) +

@@ -23,6 +23,7 @@ for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
          share/spectralize/ocio/spectralize.ocio share/spectralize/data/cie1931_2deg_cmf_1nm.csv \
          share/spectralize/farm/spectralize-ingest.sbatch include/spectralize/version.h \
          include/spectralize/core/spectralizer.h lib/libspectralize_core.a \
+         include/spectralize/rt.h include/spectralize/rt.hpp include/spectralize/rt_format.h \
          lib/cmake/spectralize/spectralizeConfig.cmake \
          lib/cmake/spectralize/spectralizeConfigVersion.cmake \
          share/doc/spectralize/spectralize-help.txt \
@@ -38,6 +39,7 @@ fi
 # What the checks need, copied out of the trees before they are hidden.
 cp "$source/testimages/hdri_forest_256x128.exr" "$work/in.exr"
 cp -r "$source/tests/install/consumer" "$work/consumer"
+cp -r "$source/tests/install/rt_consumer" "$work/rt_consumer"
 printf '{"source": "in.exr", "wavelengths": "400:700:10"}\n' >"$work/r.spectral"
 
 cat >"$work/checks.sh" <<CHECKS
@@ -54,8 +56,10 @@ spectralize --version
 spectralize in.exr -o out.exr -q
 oiiotool --info -v out.exr | grep -q "channel list: R, G, B, S0.380,000000nm" ||
   { echo "FAILED: the installed tool's output"; exit 1; }
-spectralize --color 0.2,0.5,0.1 --format json | /usr/bin/python3 -c \
+spectralize --color 0.2,0.5,0.1 --format json --method exact | /usr/bin/python3 -c \
   'import json, sys; e = json.load(sys.stdin)["relative_error"]; assert e <= 1e-12, e; print("color ok", e)'
+spectralize --color 0.2,0.5,0.1 --format json | /usr/bin/python3 -c \
+  'import json, sys; e = json.load(sys.stdin)["relative_error"]; assert e <= 1e-6, e; print("color (table) ok", e)'
 OIIO_LIBRARY_PATH="$prefix/lib/spectralize/plugins" oiiotool r.spectral -o plugin.exr
 oiiotool --info plugin.exr | grep -q "256 x  128, 34 channel" ||
   { echo "FAILED: the plugin's image (R, G, B + 31 bands)"; oiiotool --info plugin.exr; exit 1; }
@@ -68,6 +72,14 @@ print("python ok", spectralize.__version__, spectralize.__file__)'
 cmake -S consumer -B consumer-build -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build consumer-build >/dev/null
 consumer-build/consumer "$prefix/share/spectralize/data/cie1931_2deg_cmf_1nm.csv"
+# A renderer's view: a table made by the installed tool, read by spectralize::rt alone.
+spectralize table -o srgb.spztab -q
+cmake -S rt_consumer -B rt-consumer-build -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build rt-consumer-build >/dev/null
+rt_consumer_links="\$(ldd rt-consumer-build/rt_consumer | grep -c spectralize || true)"
+[ "\$rt_consumer_links" = 0 ] || { echo "FAILED: rt_consumer links a spectralize library"; exit 1; }
+rt-consumer-build/rt_consumer srgb.spztab "$prefix/share/spectralize/data/cie1931_2deg_cmf_1nm.csv" \
+  "$prefix/share/spectralize/data/cie_illuminant_d65_1nm.csv"
 echo "all installed checks passed"
 CHECKS
 

@@ -126,3 +126,23 @@ def test_ingest_a_folder(sp, tmp_path):
         s = sp.ingest(tmp_path / "nowhere", tmp_path / "out2")
     assert s["failed"] == 1 and "no such file" in s["failures"][0]["message"]
     assert s["failures"][0]["input"] == str(tmp_path / "nowhere")
+
+
+def test_table_is_the_cli_table_byte_for_byte(sp, tmp_path):
+    """table() writes what `spectralize table` writes for the same settings, and refuses what
+    the CLI refuses (an encoded space is named with its linear twin)."""
+    exe = os.environ["SPECTRALIZE_EXE"]
+    ours, theirs = tmp_path / "py.spztab", tmp_path / "cli.spztab"
+    summary = sp.table(ours, colorspace="Linear Rec.2020", mode="emission", wavelengths="400:700:10")
+    subprocess.run([exe, "table", "-o", str(theirs), "--colorspace", "Linear Rec.2020",
+                    "--mode", "emission", "--wavelengths", "400:700:10", "-q"], check=True)
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert summary["colorspace"] == "Linear Rec.2020" and summary["mode"] == "emission"
+    assert summary["bytes"] == ours.stat().st_size and summary["spectra"] > 100
+    with pytest.raises(ValueError, match="Linear Rec.709"):
+        sp.table(tmp_path / "x.spztab", colorspace="sRGB - Texture")
+    with pytest.raises(ValueError, match="spztab"):
+        sp.table(tmp_path / "x.exr")
+    with pytest.raises(ValueError, match="method"):
+        sp.table(tmp_path / "x.spztab", method="exact")
+    assert not (tmp_path / "x.spztab").exists()

@@ -1,7 +1,7 @@
-// SpectralTable against direct solves and its own definition (docs/DESIGN.md §4): the blend of a
-// cell's node spectra reproduces each pixel's colour to float precision, equals the bilinear
-// (trilinear) blend of the nodes solved directly by the Spectralizer, and stays within the
-// bounds; stored nodes are checked against their own colour.
+// SpectralTable against direct solves and its own definition (docs/DESIGN.md §4, §14): the
+// blend of a cell's node spectra reproduces each pixel's colour to float precision, equals the
+// blend of the nodes solved directly by the Spectralizer, and stays within the bounds; colours
+// outside are mapped and counted; stored nodes are checked against their own colour.
 
 #include <gtest/gtest.h>
 
@@ -63,13 +63,18 @@ TEST(SpectralTable, EveryPixelReproducesItsColourToFloatPrecision) {
   }
 }
 
-// Truth: an emission pixel inside a cell is (X+Y+Z) times the bilinear blend, with weights from
-// its chromaticity, of the exact spectra of the cell's corners (spacing 1/128), each solved here
-// directly. A table with transposed or wrong weights fails this.
-TEST(SpectralTable, EmissionIsTheBilinearBlendOfDirectlySolvedNodes) {
+// Truth: an emission pixel inside a cell is (X+Y+Z) times the blend of the exact spectra of the
+// corners of its triangle (spacing 1/128 in chromaticity; the square cut by its diagonal, the
+// weights the gaps between the sorted fractional coordinates), each solved here directly. A
+// table with transposed or wrong weights fails this.
+TEST(SpectralTable, EmissionIsTheTriangleBlendOfDirectlySolvedNodes) {
   const Spectralizer sp(settings(Mode::emission));
   SpectralTable table(sp);
   const double step = 1.0 / 128;
+  // Nodes every 1/128 through the white of the flat spectrum (docs/DESIGN.md §14).
+  const std::vector<double> ones(sp.settings().grid.size(), 1.0);
+  const Xyz flat = test::reference_xyz(sp.settings().grid, ones, Observer::get("cie1931"), nullptr);
+  const double x0 = flat.X / flat.sum(), y0 = flat.Y / flat.sum();
   for (const auto& [x, y] :
        {std::pair{0.3127, 0.3290}, std::pair{0.4012, 0.2871}, std::pair{0.2213, 0.3817}}) {
     const double S = 2.5;
@@ -78,16 +83,19 @@ TEST(SpectralTable, EmissionIsTheBilinearBlendOfDirectlySolvedNodes) {
     PixelResult res;
     table.spectra(&pixel, 1, got.data(), &res);
     ASSERT_FALSE(res.fallback);
-    const int ix = static_cast<int>(x / step), iy = static_cast<int>(y / step);
-    const double ux = x / step - ix, uy = y / step - iy;
+    const int ix = static_cast<int>(std::floor((x - x0) / step));
+    const int iy = static_cast<int>(std::floor((y - y0) / step));
+    const double ux = (x - x0) / step - ix, uy = (y - y0) / step - iy;
     std::vector<double> want(got.size(), 0.0);
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx) {
-        const double nx = (ix + dx) * step, ny = (iy + dy) * step;
-        const SpectrumResult node = sp.spectralize_target({nx, ny, 1 - nx - ny});
-        const double w = (dx ? ux : 1 - ux) * (dy ? uy : 1 - uy);
-        for (std::size_t i = 0; i < want.size(); ++i) want[i] += S * w * node.values[i];
-      }
+    // (0,0) -> (1,0) -> (1,1) when ux >= uy, else (0,0) -> (0,1) -> (1,1).
+    const int corners[3][2] = {{0, 0}, {ux >= uy ? 1 : 0, ux >= uy ? 0 : 1}, {1, 1}};
+    const double hi = std::max(ux, uy), lo = std::min(ux, uy);
+    const double weights[3] = {1 - hi, hi - lo, lo};
+    for (int c = 0; c < 3; ++c) {
+      const double nx = x0 + (ix + corners[c][0]) * step, ny = y0 + (iy + corners[c][1]) * step;
+      const SpectrumResult node = sp.spectralize_target({nx, ny, 1 - nx - ny});
+      for (std::size_t i = 0; i < want.size(); ++i) want[i] += S * weights[c] * node.values[i];
+    }
     double peak = 0, diff = 0;
     for (std::size_t i = 0; i < want.size(); ++i) {
       peak = std::max(peak, want[i]);
@@ -127,19 +135,45 @@ TEST(SpectralTable, AdoptedNodesAreCheckedAgainstTheirColour) {
   made.for_each_node([&](std::size_t index, std::span<const float> values) {
     EXPECT_TRUE(copy.adopt_node(index, values));
     ++adopted;
-    if (values.empty()) return;
     std::vector<float> doubled(values.begin(), values.end());
     for (float& v : doubled) v *= 2;
     refused += !poisoned.adopt_node(index, doubled);
   });
   EXPECT_EQ(adopted, 4u);
   EXPECT_EQ(refused, 4u);
-  EXPECT_FALSE(copy.adopt_node(copy.node_count(), {}));  // index out of range
+  EXPECT_FALSE(copy.adopt_node(copy.node_count(), out));  // index out of range
+  EXPECT_FALSE(copy.adopt_node(0, {}));                   // no spectrum
   // The copy answers from the adopted nodes, without solving, with the same spectrum.
   std::vector<float> again(out.size());
   copy.spectra(&c, 1, again.data(), &res);
   EXPECT_EQ(copy.stats().nodes_computed, 0u);
   EXPECT_EQ(again, out);
+}
+
+// Colours outside the gamut are mapped (docs/DESIGN.md §5) and counted by kind, with no solve:
+// the spectrum is the table's blend of the mapped colour, which the Spectralizer maps the same.
+TEST(SpectralTable, OutsideColoursAreMappedByTheTableWithoutSolves) {
+  for (Mode mode : {Mode::emission, Mode::reflectance}) {
+    SCOPED_TRACE(std::string(to_string(mode)));
+    const Spectralizer sp(settings(mode));
+    SpectralTable table(sp);
+    // A laser green (outside the locus) and, for reflectances, a green brighter than white.
+    const Xyz colours[2] = {test::xyz_from_xy(0.1, 0.85, 0.5), test::xyz_from_xy(0.3, 0.6, 1.5)};
+    std::vector<float> out(2 * sp.settings().grid.size());
+    PixelResult res[2];
+    table.spectra(colours, 2, out.data(), res);
+    EXPECT_EQ(res[0].kind, PixelKind::outside_locus);
+    if (mode == Mode::reflectance) EXPECT_EQ(res[1].kind, PixelKind::outside_solid);
+    for (int c = 0; c < 2; ++c) {
+      const SpectrumResult direct = sp.spectralize(colours[c]);
+      EXPECT_LE(relative_error(res[c].target, direct.target), 1e-12);
+      const std::vector<float> s(out.begin() + c * sp.settings().grid.size(),
+                                 out.begin() + (c + 1) * sp.settings().grid.size());
+      EXPECT_LE(relative_error(integrate(sp, s), direct.target), 1e-5);
+      EXPECT_FALSE(res[c].fallback);
+    }
+    EXPECT_EQ(table.stats().fallback_solves, 0u);
+  }
 }
 
 }  // namespace

@@ -1,0 +1,97 @@
+/* spectralize::rt -- exact spectra at render time, from a table made by `spectralize table`.
+ *
+ * The C API. spz_fetch turns a linear RGB colour of the table's colour space into a small
+ * value (spz_spectrum) whose spectrum reproduces the colour exactly (relative XYZ <= 1e-5 in
+ * float under the table's conventions), stays in [0, 1] for reflectances and >= 0 for lights,
+ * and needs no solver: the blend of up to four precomputed exact spectra. spz_eval gives its
+ * value at any wavelength (the piecewise-linear spectrum through the table's samples, 0 outside
+ * their range). No allocation, no exceptions, no virtual calls in fetch and eval; a loaded table
+ * is read-only and may be shared by any number of threads.
+ *
+ * Header-only. C++ code can use <spectralize/rt.hpp> directly. For these C functions, define
+ * SPECTRALIZE_RT_IMPLEMENTATION in exactly one C++ translation unit before including this
+ * header: it then defines them (over rt.hpp); every other C or C++ unit just includes it.
+ *
+ *   spz_table *t = spz_table_load("srgb.spztab", err, sizeof err);   (NULL + message)
+ *   spz_spectrum s;
+ *   int status = spz_fetch(t, rgb, &s);  (0 exact, 1 mapped into the gamut first, < 0 invalid)
+ *   float v = spz_eval(&s, 550.0f);
+ *   spz_table_free(t);
+ */
+#ifndef SPECTRALIZE_RT_H
+#define SPECTRALIZE_RT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A loaded table (opaque). */
+typedef struct spz_table spz_table;
+
+/* A colour's spectrum: the blend of up to four of the table's spectra. A small value; valid
+ * while its table is loaded. */
+typedef struct spz_spectrum {
+  const void *table;  /* the table's data (internal) */
+  uint32_t vertex[4]; /* spectrum slots, or (high bit) boundary spectra of the table */
+  float weight[4];    /* barycentric weights, sum 1 */
+  float scale;        /* lights: the colour's X+Y+Z (any brightness); 1 for reflectances;
+                         0 for the zero spectrum */
+  uint32_t flags;     /* internal: bit 0 a boundary spectrum is blended, bit 1 reflectance */
+} spz_spectrum;
+
+/* spz_fetch results. */
+enum {
+  SPZ_EXACT = 0,     /* the colour's own exact spectrum */
+  SPZ_MAPPED = 1,    /* outside the gamut: mapped in as the spectralize CLI does, then exact */
+  SPZ_INVALID = -1,  /* NaN or infinite: the zero spectrum */
+  SPZ_NEGATIVE = -2  /* negative luminance (no light or surface has it): the zero spectrum */
+};
+
+/* Loads and validates a table file (every size, offset, index, value and the checksum).
+ * Returns NULL and a message naming the file and the reason in `error` (if not NULL) for
+ * anything unusable. Cost: reading the file, O(file size). */
+spz_table *spz_table_load(const char *path, char *error, size_t error_size);
+
+/* Frees a table (NULL is allowed). */
+void spz_table_free(spz_table *table);
+
+/* The spectrum of a linear RGB colour of the table's colour space. Cost: O(1): a cell lookup and
+ * four weights; cells on the gamut's boundary test a few simplices; a colour outside the gamut
+ * is mapped first (O(facets), a few thousand planes). */
+int spz_fetch(const spz_table *table, const float rgb[3], spz_spectrum *out);
+
+/* The spectrum's value at lambda_nm (0 outside the table's wavelengths). Cost: O(1). */
+float spz_eval(const spz_spectrum *s, float lambda_nm);
+
+/* The values at four wavelengths (e.g. a path's hero wavelengths). Cost: O(1). */
+void spz_eval4(const spz_spectrum *s, const float lambda_nm[4], float out[4]);
+
+/* All samples of the spectrum, spz_table_bands() floats into out. Cost: O(bands). */
+void spz_samples(const spz_spectrum *s, float *out);
+
+/* Samples per spectrum, and their wavelengths: start + i * step nm. Cost: O(1). */
+size_t spz_table_bands(const spz_table *table);
+void spz_table_wavelengths(const spz_table *table, float *start_nm, float *step_nm);
+
+/* 0 emission (lights), 1 reflectance (surfaces). Cost: O(1). */
+int spz_table_mode(const spz_table *table);
+
+/* The OCIO colour space the table's RGB belongs to, and its RGB -> CIE XYZ (D65) matrix
+ * (row-major). Cost: O(1). */
+const char *spz_table_colorspace(const spz_table *table);
+void spz_table_rgb_to_xyz(const spz_table *table, double matrix[9]);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+/* rt.hpp defines the C functions at its end when SPECTRALIZE_RT_IMPLEMENTATION is set (also
+ * when it is the header being read, which includes this one first). */
+#if defined(__cplusplus) && defined(SPECTRALIZE_RT_IMPLEMENTATION) && !defined(SPECTRALIZE_RT_HPP)
+#include <spectralize/rt.hpp>
+#endif
+
+#endif /* SPECTRALIZE_RT_H */

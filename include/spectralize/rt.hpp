@@ -1,0 +1,1159 @@
+// spectralize::rt -- the C++ API (header-only, C++17, no dependencies) of the render-time
+// evaluator of exact spectra; see <spectralize/rt.h> for the C API over it and
+// docs/DESIGN.md §14 for the table and why it is exact.
+//
+//   spz::Table table;
+//   std::string error;
+//   if (!table.load("srgb.spztab", &error)) ...;        // never throws, validates everything
+//   spz::Spectrum s;
+//   const int status = table.view().fetch(rgb, s);       // SPZ_EXACT, SPZ_MAPPED, < 0 invalid
+//   float v[4];
+//   spz::eval4(s, lambdas, v);                           // or spz::eval(s, 550.f)
+//
+// A TableView is a validated view of a table's bytes (owned by a Table, or any memory the
+// caller keeps alive: a file mapped into memory, aligned to 8 bytes). Lookups read only and
+// are thread-safe. fetch() and the eval functions allocate nothing, throw nothing and make no
+// virtual calls; their data are plain arrays.
+#ifndef SPECTRALIZE_RT_HPP
+#define SPECTRALIZE_RT_HPP
+
+#include <spectralize/rt.h>
+#include <spectralize/rt_format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <new>
+#include <string>
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <sys/stat.h>
+#endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace spz {
+
+using Spectrum = spz_spectrum;
+
+namespace detail {
+
+inline std::uint64_t fnv1a(const unsigned char* p, std::size_t n, std::uint64_t h) noexcept {
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+// The checksum of a table: FNV-1a 64 of the bytes with the checksum field (24..31) as zeros.
+inline std::uint64_t table_checksum(const unsigned char* data, std::size_t size) noexcept {
+  const unsigned char zeros[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::uint64_t h = 1469598103934665603ull;
+  h = fnv1a(data, 24, h);
+  h = fnv1a(zeros, 8, h);
+  return fnv1a(data + 32, size - 32, h);
+}
+
+inline void say(char* error, std::size_t size, const char* format, ...) noexcept {
+  if (!error || size == 0) return;
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(error, size, format, args);
+  va_end(args);
+}
+
+inline bool finite(double v) noexcept {
+  return std::isfinite(v);
+}
+
+struct Vec3 {
+  double x, y, z;
+};
+inline double dot(const double* n, const Vec3& v) noexcept {
+  return n[0] * v.x + n[1] * v.y + n[2] * v.z;
+}
+inline Vec3 mul(const double* m, const Vec3& v) noexcept {
+  return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
+          m[6] * v.x + m[7] * v.y + m[8] * v.z};
+}
+inline double max_abs(const Vec3& v) noexcept {
+  return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
+}
+
+// The point of a simplex (4 vertices in 3-D; a triangle when `dims` is 2, p[3] ignored) closest
+// to x, as barycentric weights w (>= 0, sum 1); returns the squared distance. Every face of
+// the simplex is tried (the least-squares point of its affine hull, kept when its weights are
+// >= 0): 15 small systems. For a colour within rounding of a clipped cell's boundary, the blend
+// of its nearest point: off by that distance only. Cost: ~300 flops.
+inline double closest_in_simplex(const double p[4][3], int dims, const double x[3],
+                                 double w[4]) noexcept {
+  const int nv = dims + 1;
+  double best = 1e300;
+  for (int mask = 1; mask < (1 << nv); ++mask) {
+    int idx[4] = {0, 0, 0, 0}, m = 0;
+    for (int v = 0; v < nv; ++v)
+      if (mask & (1 << v)) idx[m++] = v;
+    // x ~ p[idx0] + sum_k c_k (p[idx_k] - p[idx0]): normal equations G c = r (m - 1 unknowns).
+    double e[3][3], G[3][3] = {}, r[3] = {}, c[3] = {0, 0, 0};
+    for (int k = 1; k < m; ++k)
+      for (int a = 0; a < 3; ++a) e[k - 1][a] = p[idx[k]][a] - p[idx[0]][a];
+    const double d0[3] = {x[0] - p[idx[0]][0], x[1] - p[idx[0]][1], x[2] - p[idx[0]][2]};
+    const int n = m - 1;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j)
+        G[i][j] = e[i][0] * e[j][0] + e[i][1] * e[j][1] + e[i][2] * e[j][2];
+      r[i] = e[i][0] * d0[0] + e[i][1] * d0[1] + e[i][2] * d0[2];
+    }
+    bool ok = true;
+    if (n == 1) {
+      ok = G[0][0] > 0;
+      if (ok) c[0] = r[0] / G[0][0];
+    } else if (n == 2) {
+      const double D = G[0][0] * G[1][1] - G[0][1] * G[1][0];
+      ok = D > 0;
+      if (ok)
+        c[0] = (r[0] * G[1][1] - G[0][1] * r[1]) / D, c[1] = (G[0][0] * r[1] - G[1][0] * r[0]) / D;
+    } else if (n == 3) {
+      const double D = G[0][0] * (G[1][1] * G[2][2] - G[1][2] * G[2][1]) -
+                       G[0][1] * (G[1][0] * G[2][2] - G[1][2] * G[2][0]) +
+                       G[0][2] * (G[1][0] * G[2][1] - G[1][1] * G[2][0]);
+      ok = D > 0;
+      if (ok)
+        for (int k = 0; k < 3; ++k) {
+          double H[3][3];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) H[i][j] = j == k ? r[i] : G[i][j];
+          c[k] = (H[0][0] * (H[1][1] * H[2][2] - H[1][2] * H[2][1]) -
+                  H[0][1] * (H[1][0] * H[2][2] - H[1][2] * H[2][0]) +
+                  H[0][2] * (H[1][0] * H[2][1] - H[1][1] * H[2][0])) /
+                 D;
+        }
+    }
+    if (!ok) continue;
+    double w0 = 1;
+    for (int k = 0; k < n; ++k) {
+      if (c[k] < 0) ok = false;
+      w0 -= c[k];
+    }
+    if (!ok || w0 < 0) continue;
+    double q[3] = {p[idx[0]][0], p[idx[0]][1], p[idx[0]][2]};
+    for (int k = 0; k < n; ++k)
+      for (int a = 0; a < 3; ++a) q[a] += c[k] * e[k][a];
+    const double dist = (q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]) +
+                        (q[2] - x[2]) * (q[2] - x[2]);
+    if (dist < best) {
+      best = dist;
+      for (int v = 0; v < 4; ++v) w[v] = 0;
+      w[idx[0]] = w0;
+      for (int k = 0; k < n; ++k) w[idx[k + 1]] = c[k];
+    }
+  }
+  return best;
+}
+
+// A half-space gamut in target XYZ, as the spectralize CLI tests it (docs/DESIGN.md §5).
+struct Gamut {
+  const double* planes = nullptr;  // n.x, n.y, n.z, d per plane
+  std::uint64_t count = 0;
+  bool contains(const Vec3& t) const noexcept {
+    const double tol = 1e-12 * max_abs(t);  // relative: near black the gamuts are cones
+    for (std::uint64_t f = 0; f < count; ++f)
+      if (dot(planes + 4 * f, t) > planes[4 * f + 3] + tol) return false;
+    return true;
+  }
+  double max_step(const Vec3& from, const Vec3& to) const noexcept {
+    double s = 1.0;
+    const Vec3 d{to.x - from.x, to.y - from.y, to.z - from.z};
+    for (std::uint64_t f = 0; f < count; ++f) {
+      const double* p = planes + 4 * f;
+      if (dot(p, to) <= p[3]) continue;
+      const double slack = p[3] - dot(p, from), rate = dot(p, d);
+      if (rate > 0) s = std::min(s, std::max(slack, 0.0) / rate);
+    }
+    return s;
+  }
+};
+
+}  // namespace detail
+
+/// A validated, read-only view of a table's bytes.
+class TableView {
+ public:
+  /// Validates `size` bytes at `data` (8-byte aligned; kept alive by the caller) as a table:
+  /// header, sizes, offsets, counts, indices, values and checksum. False, with a message in
+  /// `error`, for anything unusable; never reads outside [data, data + size). Cost: O(size).
+  bool open(const void* data, std::size_t size, char* error, std::size_t error_size) noexcept;
+
+  /// The spectrum of a linear RGB colour of the table's colour space: SPZ_EXACT, SPZ_MAPPED
+  /// (outside the gamut: mapped in first, as the CLI does), SPZ_INVALID or SPZ_NEGATIVE (the
+  /// zero spectrum). Cost: O(1) inside the gamut; O(facets) for a mapped colour.
+  int fetch(const float rgb[3], Spectrum& out) const noexcept;
+
+  /// The gamut mapping alone (docs/DESIGN.md §5) of an RGB colour: the RGB the spectrum of
+  /// `rgb` reproduces. Returns the fetch status of the colour. Cost: O(facets).
+  int map_into_gamut(const double rgb[3], double mapped[3]) const noexcept;
+
+  std::size_t bands() const noexcept { return bands_; }
+  float lambda_start() const noexcept { return start_; }
+  float lambda_step() const noexcept { return step_; }
+  bool reflectance() const noexcept { return reflectance_; }
+  const spz_file_header& header() const noexcept { return *h_; }
+
+  // Internal data, read by the eval functions below.
+  std::uint32_t bands_ = 0, mask_words_ = 0;
+  float start_ = 0, step_ = 1, inv_step_ = 1, last_ = 0;
+  bool reflectance_ = false;
+  const spz_file_header* h_ = nullptr;
+  const float* spectra_ = nullptr;
+  const std::uint32_t* bmask_ = nullptr;
+  const std::uint32_t* bpick_ = nullptr;
+  const float* bvalue_ = nullptr;
+
+ private:
+  bool locate(const double u[3], int cell_index[3], double f[3], bool clamp) const noexcept;
+  bool blend(const double u[3], Spectrum& s, bool nearest) const noexcept;
+  template <int dims>
+  bool fast_blend(const float u[3], Spectrum& s) const noexcept;
+  struct AxisFast {  // one axis' lookup, hot in fetch()
+    const float* p;
+    const float* inv;
+    const std::uint32_t* lut;
+    float origin, inv_bin, last_bin;
+    std::uint32_t n;
+  };
+  AxisFast fast_[3] = {};
+  bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
+                  bool nearest) const noexcept;
+  bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s,
+                      bool nearest) const noexcept;
+  std::uint32_t slot_of_corner(const int i[3], std::uint32_t corner) const noexcept {
+    const std::uint32_t x = static_cast<std::uint32_t>(i[0]) + (corner & 1u);
+    const std::uint32_t y = static_cast<std::uint32_t>(i[1]) + ((corner >> 1) & 1u);
+    const std::uint32_t z = static_cast<std::uint32_t>(i[2]) + ((corner >> 2) & 1u);
+    return slots_[x + n_[0] * (y + n_[1] * z)];
+  }
+  static void zero(Spectrum& s) noexcept {
+    for (int k = 0; k < 4; ++k) s.vertex[k] = 0, s.weight[k] = 0;
+    s.scale = 0;
+    s.flags &= ~1u;
+  }
+  int slow_fetch(const float rgb[3], Spectrum& s) const noexcept;
+  int map_target(detail::Vec3& t) const noexcept;
+
+  std::uint32_t n_[3] = {0, 0, 0}, lut_size_[3] = {0, 0, 0}, dims_ = 3;
+  float lut_origin_[3] = {0, 0, 0}, lut_inv_[3] = {0, 0, 0};
+  const float* axis_[3] = {nullptr, nullptr, nullptr};
+  const float* inverse_[3] = {nullptr, nullptr, nullptr};
+  const std::uint32_t* lut_[3] = {nullptr, nullptr, nullptr};
+  const std::uint32_t* cells_ = nullptr;
+  const std::uint32_t* slots_ = nullptr;
+  const std::uint32_t* bcells_ = nullptr;
+  const std::uint32_t* simplices_ = nullptr;
+  const double* bpos_ = nullptr;
+  float to_target_f_[9] = {};
+  detail::Gamut locus_, solid_;
+};
+
+/// A table read from a file (owns its bytes). Movable, not copyable.
+class Table {
+ public:
+  Table() = default;
+  Table(Table&& o) noexcept { *this = static_cast<Table&&>(o); }
+  Table& operator=(Table&& o) noexcept {
+    if (this != &o) {
+      release();
+      data_ = o.data_, size_ = o.size_, view_ = o.view_;
+      o.data_ = nullptr, o.size_ = 0;
+    }
+    return *this;
+  }
+  Table(const Table&) = delete;
+  Table& operator=(const Table&) = delete;
+  ~Table() { release(); }
+
+  /// Reads and validates a table file. False with "PATH: reason" in error (when not null).
+  /// Never throws. Cost: O(file size).
+  bool load(const char* path, char* error, std::size_t error_size) noexcept;
+  bool load(const char* path, std::string* error = nullptr) {
+    char buf[512];
+    const bool ok = load(path, buf, sizeof buf);
+    if (!ok && error) *error = buf;
+    return ok;
+  }
+  /// The validated view (valid after a successful load). Cost: O(1).
+  const TableView& view() const noexcept { return view_; }
+
+ private:
+  void release() noexcept {
+    if (data_) ::operator delete(data_, std::align_val_t(64));
+    data_ = nullptr;
+  }
+  unsigned char* data_ = nullptr;
+  std::size_t size_ = 0;
+  TableView view_;
+};
+
+namespace detail {
+
+// Sample k of spectrum vertex v of s (a node spectrum, or a boundary vertex's 0/1 mask with two
+// samples of their own).
+inline float vertex_value(const TableView& t, std::uint32_t v, std::uint32_t k) noexcept {
+  if (!(v & SPZ_BOUNDARY_BIT)) return t.spectra_[static_cast<std::size_t>(v) * t.bands_ + k];
+  const std::uint32_t b = v & ~SPZ_BOUNDARY_BIT, pick = t.bpick_[b];
+  if (k == (pick & 0xFFFFu)) return t.bvalue_[2 * static_cast<std::size_t>(b)];
+  if (k == (pick >> 16)) return t.bvalue_[2 * static_cast<std::size_t>(b) + 1];
+  return static_cast<float>(
+      (t.bmask_[static_cast<std::size_t>(b) * t.mask_words_ + k / 32] >> (k % 32)) & 1u);
+}
+
+}  // namespace detail
+
+/// The spectrum's value at `lambda_nm`: the piecewise-linear function through its samples, 0
+/// outside the table's wavelengths. Cost: O(1), 8 loads.
+namespace detail {
+
+// The sample interval of a wavelength and the position in it. The fraction is taken from the
+// interval's own start (exact in float for grids of whole nanometres), not from the position
+// on the whole grid, whose float rounding would be ~1e-5 of a sample apart at 780 nm.
+inline void interval_of(const TableView& t, float lambda_nm, std::uint32_t& k, float& f) noexcept {
+  const float x = (lambda_nm - t.start_) * t.inv_step_;
+  k = std::min(static_cast<std::uint32_t>(x), t.bands_ - 2);
+  f = (lambda_nm - (t.start_ + static_cast<float>(k) * t.step_)) * t.inv_step_;
+  f = std::min(std::max(f, 0.0f), 1.0f);
+}
+
+}  // namespace detail
+
+inline float eval(const Spectrum& s, float lambda_nm) noexcept {
+  const TableView& t = *static_cast<const TableView*>(s.table);
+  const float x = (lambda_nm - t.start_) * t.inv_step_;
+  if (!(x >= 0.0f && x <= t.last_)) return 0.0f;
+  std::uint32_t k;
+  float f;
+  detail::interval_of(t, lambda_nm, k, f);
+  float acc = 0;
+  if (!(s.flags & 1u)) {
+    for (int v = 0; v < 4; ++v) {
+      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_ + k;
+      acc += s.weight[v] * (p[0] + f * (p[1] - p[0]));
+    }
+  } else {
+    for (int v = 0; v < 4; ++v) {
+      const float a = detail::vertex_value(t, s.vertex[v], k);
+      const float b = detail::vertex_value(t, s.vertex[v], k + 1);
+      acc += s.weight[v] * (a + f * (b - a));
+    }
+  }
+  acc *= s.scale;
+  return (s.flags & 2u) ? std::min(acc, 1.0f) : acc;
+}
+
+/// The values at four wavelengths. Cost: O(1), 32 loads; the arithmetic in SSE lanes where
+/// the compiler targets SSE2 (every x86-64), else the same in plain C++.
+inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noexcept {
+  const TableView& t = *static_cast<const TableView*>(s.table);
+#if defined(__SSE2__)
+  if (!(s.flags & 1u)) {
+    const __m128 l = _mm_loadu_ps(lambda_nm), start = _mm_set1_ps(t.start_);
+    const __m128 inv = _mm_set1_ps(t.inv_step_), zero = _mm_setzero_ps(), one = _mm_set1_ps(1);
+    const __m128 x = _mm_mul_ps(_mm_sub_ps(l, start), inv);
+    const __m128 in = _mm_and_ps(_mm_cmpge_ps(x, zero), _mm_cmple_ps(x, _mm_set1_ps(t.last_)));
+    // The interval (k <= N - 2) and the position in it from its own start (interval_of).
+    const __m128 xk = _mm_min_ps(_mm_and_ps(in, x), _mm_set1_ps(static_cast<float>(t.bands_ - 2)));
+    const __m128i ki = _mm_cvttps_epi32(xk);
+    const __m128 lk = _mm_add_ps(start, _mm_mul_ps(_mm_cvtepi32_ps(ki), _mm_set1_ps(t.step_)));
+    const __m128 lc = _mm_or_ps(_mm_and_ps(in, l), _mm_andnot_ps(in, start));
+    const __m128 f = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(lc, lk), inv), one), zero);
+    alignas(16) std::int32_t k[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(k), ki);
+    __m128 acc = zero;
+    for (int v = 0; v < 4; ++v) {
+      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
+      // Each lane's two samples in one 8-byte load, then split into a (k) and b (k + 1).
+      __m128 lo = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[0]));
+      lo = _mm_loadh_pi(lo, reinterpret_cast<const __m64*>(p + k[1]));
+      __m128 hi = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[2]));
+      hi = _mm_loadh_pi(hi, reinterpret_cast<const __m64*>(p + k[3]));
+      const __m128 a = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 b = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+      const __m128 value = _mm_add_ps(a, _mm_mul_ps(f, _mm_sub_ps(b, a)));
+      acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(s.weight[v]), value));
+    }
+    acc = _mm_and_ps(in, _mm_mul_ps(acc, _mm_set1_ps(s.scale)));
+    if (s.flags & 2u) acc = _mm_min_ps(acc, one);
+    _mm_storeu_ps(out, acc);
+    return;
+  }
+#endif
+  std::uint32_t k[4];
+  float f[4], acc[4] = {0, 0, 0, 0};
+  bool in[4];
+  for (int l = 0; l < 4; ++l) {
+    const float x = (lambda_nm[l] - t.start_) * t.inv_step_;
+    in[l] = x >= 0.0f && x <= t.last_;
+    detail::interval_of(t, in[l] ? lambda_nm[l] : t.start_, k[l], f[l]);
+  }
+  if (!(s.flags & 1u)) {
+    for (int v = 0; v < 4; ++v) {
+      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
+      const float w = s.weight[v];
+      for (int l = 0; l < 4; ++l) {
+        const float a = p[k[l]], b = p[k[l] + 1];
+        acc[l] += w * (a + f[l] * (b - a));
+      }
+    }
+  } else {
+    for (int v = 0; v < 4; ++v)
+      for (int l = 0; l < 4; ++l) {
+        const float a = detail::vertex_value(t, s.vertex[v], k[l]);
+        const float b = detail::vertex_value(t, s.vertex[v], k[l] + 1);
+        acc[l] += s.weight[v] * (a + f[l] * (b - a));
+      }
+  }
+  for (int l = 0; l < 4; ++l) {
+    const float v = in[l] ? acc[l] * s.scale : 0.0f;
+    out[l] = (s.flags & 2u) ? std::min(v, 1.0f) : v;
+  }
+}
+
+/// Every sample of the spectrum (bands() floats). Cost: O(bands).
+inline void samples(const Spectrum& s, float* out) noexcept {
+  const TableView& t = *static_cast<const TableView*>(s.table);
+  const std::uint32_t n = t.bands_;
+  const bool clamp = (s.flags & 2u) != 0;
+  if (!(s.flags & 1u)) {
+    const float* p0 = t.spectra_ + static_cast<std::size_t>(s.vertex[0]) * n;
+    const float* p1 = t.spectra_ + static_cast<std::size_t>(s.vertex[1]) * n;
+    const float* p2 = t.spectra_ + static_cast<std::size_t>(s.vertex[2]) * n;
+    const float* p3 = t.spectra_ + static_cast<std::size_t>(s.vertex[3]) * n;
+    const float w0 = s.weight[0] * s.scale, w1 = s.weight[1] * s.scale;
+    const float w2 = s.weight[2] * s.scale, w3 = s.weight[3] * s.scale;
+    if (clamp)
+      for (std::uint32_t k = 0; k < n; ++k)
+        out[k] = std::min(w0 * p0[k] + w1 * p1[k] + w2 * p2[k] + w3 * p3[k], 1.0f);
+    else
+      for (std::uint32_t k = 0; k < n; ++k)
+        out[k] = w0 * p0[k] + w1 * p1[k] + w2 * p2[k] + w3 * p3[k];
+    return;
+  }
+  for (std::uint32_t k = 0; k < n; ++k) {
+    float acc = 0;
+    for (int v = 0; v < 4; ++v) acc += s.weight[v] * detail::vertex_value(t, s.vertex[v], k);
+    acc *= s.scale;
+    out[k] = clamp ? std::min(acc, 1.0f) : acc;
+  }
+}
+
+// --- TableView ---
+
+inline bool TableView::open(const void* data, std::size_t size, char* error,
+                            std::size_t error_size) noexcept {
+  using detail::say;
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  *this = TableView{};
+  if (!data || size < SPZ_HEADER_SIZE) {
+    say(error, error_size, "truncated: %zu bytes, a table has a %u-byte header at least", size,
+        SPZ_HEADER_SIZE);
+    return false;
+  }
+  if (reinterpret_cast<std::uintptr_t>(data) % 8 != 0) {
+    say(error, error_size, "the table's bytes are not 8-byte aligned in memory");
+    return false;
+  }
+  const auto* h = static_cast<const spz_file_header*>(data);
+  if (std::memcmp(h->magic, "SPZTABLE", 8) != 0) {
+    say(error, error_size, "not a spectralize table (no SPZTABLE signature)");
+    return false;
+  }
+  const std::uint32_t probe = 1;
+  unsigned char first;
+  std::memcpy(&first, &probe, 1);
+  if (first != 1) {
+    say(error, error_size, "this evaluator runs on little-endian machines only");
+    return false;
+  }
+  if (h->byte_order != SPZ_BYTE_ORDER_MARK) {
+    say(error, error_size,
+        h->byte_order == 0x04030201u ? "written with the wrong byte order (big-endian)"
+                                     : "bad byte-order mark 0x%08x",
+        static_cast<unsigned>(h->byte_order));
+    return false;
+  }
+  if (h->version != SPZ_FORMAT_VERSION) {
+    say(error, error_size, "format version %u (this evaluator reads version %u)",
+        static_cast<unsigned>(h->version), SPZ_FORMAT_VERSION);
+    return false;
+  }
+  if (h->header_size != SPZ_HEADER_SIZE || h->section_count != SPZ_SECTION_COUNT) {
+    say(error, error_size, "bad header size or section count");
+    return false;
+  }
+  if (h->file_size != size) {
+    say(error, error_size, "%s: the header says %llu bytes, there are %zu",
+        h->file_size > size ? "truncated" : "extra bytes",
+        static_cast<unsigned long long>(h->file_size), size);
+    return false;
+  }
+  if (detail::table_checksum(bytes, size) != h->checksum) {
+    say(error, error_size, "checksum mismatch (the file is corrupt)");
+    return false;
+  }
+  // Fixed fields.
+  const bool reflectance = h->mode == SPZ_MODE_REFLECTANCE;
+  if (h->mode != SPZ_MODE_EMISSION && !reflectance)
+    return say(error, error_size, "bad mode %u", h->mode), false;
+  if (h->bands < 2 || h->bands > 65535 || h->mask_words != (h->bands + 31) / 32)
+    return say(error, error_size, "bad band count %u", h->bands), false;
+  if (!(h->lambda_step > 0) || !(h->lambda_start >= 0) ||
+      !(h->lambda_start + h->lambda_step * (h->bands - 1) < 1e5))
+    return say(error, error_size, "bad wavelengths"), false;
+  const double* doubles[] = {h->rgb_to_xyz, h->rgb_to_target, h->target_to_rgb};
+  for (const double* m : doubles)
+    for (int k = 0; k < 9; ++k)
+      if (!detail::finite(m[k])) return say(error, error_size, "a matrix is not finite"), false;
+  for (int k = 0; k < 3; ++k)
+    if (!detail::finite(h->locus_white[k]) || !detail::finite(h->solid_white[k]))
+      return say(error, error_size, "a white is not finite"), false;
+  const double params[] = {h->locus_margin, h->solid_margin, h->snap_tolerance, h->locus_scale,
+                           h->solid_scale};
+  for (double p : params)
+    if (!(p >= 0 && p < 1e30)) return say(error, error_size, "bad mapping parameters"), false;
+  if (!(h->locus_white[1] > 0)) return say(error, error_size, "bad locus white"), false;
+  const char* strings[] = {h->colorspace, h->interop_id,     h->model,    h->observer,
+                           h->illuminant, h->emission_basis, h->generator};
+  const std::size_t lengths[] = {
+      sizeof h->colorspace, sizeof h->interop_id,     sizeof h->model,    sizeof h->observer,
+      sizeof h->illuminant, sizeof h->emission_basis, sizeof h->generator};
+  for (int k = 0; k < 7; ++k)
+    if (!std::memchr(strings[k], 0, lengths[k]))
+      return say(error, error_size, "a name in the header is not terminated"), false;
+  dims_ = reflectance ? 3 : 2;
+  std::uint64_t nodes = 1, cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    const std::uint32_t n = h->nodes[a];
+    if (a < static_cast<int>(dims_) ? (n < 2 || n > 65536) : n != 1)
+      return say(error, error_size, "bad node count %u on axis %d", n, a), false;
+    nodes *= n;
+    cells *= a < static_cast<int>(dims_) ? n - 1 : 1;
+    if (!(h->lut_size[a] >= 1 && h->lut_size[a] <= (1u << 20)) ||
+        !std::isfinite(h->lut_origin[a]) || !(h->lut_inverse_bin[a] > 0) ||
+        !std::isfinite(h->lut_inverse_bin[a]))
+      return say(error, error_size, "bad lookup of axis %d", a), false;
+  }
+  if (nodes > (1u << 28)) return say(error, error_size, "too many nodes"), false;
+  // Sections: aligned, inside the file, counts consistent with the header.
+  const std::size_t element[SPZ_SECTION_COUNT] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 8, 4, 4, 4, 8, 8};
+  const void* at[SPZ_SECTION_COUNT];
+  std::uint64_t count[SPZ_SECTION_COUNT];
+  for (int s = 0; s < static_cast<int>(SPZ_SECTION_COUNT); ++s) {
+    const spz_section_entry& e = h->sections[s];
+    count[s] = e.count;
+    if (e.count == 0) {
+      at[s] = nullptr;
+      continue;
+    }
+    if (e.offset % SPZ_SECTION_ALIGNMENT != 0 || e.offset < SPZ_HEADER_SIZE || e.offset > size ||
+        e.count > (size - e.offset) / element[s])
+      return say(error, error_size, "section %d lies outside the file or is misaligned", s), false;
+    at[s] = bytes + e.offset;
+  }
+  const std::uint32_t bands = h->bands;
+  std::uint64_t intervals = 0, lut_total = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (a < static_cast<int>(dims_)) intervals += h->nodes[a] - 1;
+    lut_total += h->lut_size[a];
+  }
+  const std::uint64_t slots = count[SPZ_SECTION_SPECTRA] / bands;
+  const std::uint64_t nbv = count[SPZ_SECTION_BOUNDARY_PICKS];
+  const std::uint64_t nbc = count[SPZ_SECTION_BOUNDARY_CELLS] / 2;
+  const std::uint64_t nsimplex = count[SPZ_SECTION_SIMPLICES] / 4;
+  const bool consistent =
+      count[SPZ_SECTION_AXIS_X] == h->nodes[0] && count[SPZ_SECTION_AXIS_Y] == h->nodes[1] &&
+      count[SPZ_SECTION_AXIS_Z] == h->nodes[2] && count[SPZ_SECTION_AXIS_INVERSE] == intervals &&
+      count[SPZ_SECTION_AXIS_LUT] == lut_total && count[SPZ_SECTION_CELLS] == cells &&
+      count[SPZ_SECTION_NODE_SLOTS] == nodes && count[SPZ_SECTION_SPECTRA] % bands == 0 &&
+      slots >= 1 && slots < SPZ_BOUNDARY_BIT && count[SPZ_SECTION_BOUNDARY_CELLS] % 2 == 0 &&
+      nbc < SPZ_BOUNDARY_BIT && count[SPZ_SECTION_SIMPLICES] % 4 == 0 && nbv < SPZ_BOUNDARY_BIT &&
+      count[SPZ_SECTION_BOUNDARY_POSITIONS] == 3 * nbv &&
+      count[SPZ_SECTION_BOUNDARY_MASKS] == nbv * h->mask_words &&
+      count[SPZ_SECTION_BOUNDARY_VALUES] == 2 * nbv && count[SPZ_SECTION_LOCUS_PLANES] % 4 == 0 &&
+      count[SPZ_SECTION_LOCUS_PLANES] > 0 && count[SPZ_SECTION_SOLID_PLANES] % 4 == 0 &&
+      (!reflectance || count[SPZ_SECTION_SOLID_PLANES] > 0);
+  if (!consistent) return say(error, error_size, "section sizes disagree with the header"), false;
+  // Contents.
+  auto u32 = [&](int s) { return static_cast<const std::uint32_t*>(at[s]); };
+  auto f64 = [&](int s) { return static_cast<const double*>(at[s]); };
+  std::uint64_t inv_at = 0, lut_at = 0;
+  for (int a = 0; a < 3; ++a) {
+    n_[a] = h->nodes[a];
+    axis_[a] = static_cast<const float*>(at[SPZ_SECTION_AXIS_X + a]);
+    for (std::uint32_t k = 0; k < n_[a]; ++k)
+      if (!std::isfinite(axis_[a][k]) || (k > 0 && !(axis_[a][k] > axis_[a][k - 1])))
+        return say(error, error_size, "axis %d is not increasing", a), false;
+    if (a < static_cast<int>(dims_)) {
+      inverse_[a] = static_cast<const float*>(at[SPZ_SECTION_AXIS_INVERSE]) + inv_at;
+      for (std::uint32_t k = 0; k + 1 < n_[a]; ++k)
+        if (!(inverse_[a][k] > 0) || !std::isfinite(inverse_[a][k]))
+          return say(error, error_size, "bad interval of axis %d", a), false;
+      inv_at += n_[a] - 1;
+    }
+    lut_[a] = u32(SPZ_SECTION_AXIS_LUT) + lut_at;
+    lut_size_[a] = h->lut_size[a];
+    lut_origin_[a] = h->lut_origin[a];
+    lut_inv_[a] = h->lut_inverse_bin[a];
+    // Each bin names the interval holding its start (the lookup then steps at most one
+    // interval either way), exactly as the writer makes it; bins are no wider than half the
+    // shortest interval.
+    if (n_[a] > 1) {
+      float shortest = INFINITY;
+      for (std::uint32_t k = 0; k + 1 < n_[a]; ++k)
+        shortest = std::min(shortest, axis_[a][k + 1] - axis_[a][k]);
+      if (!(1 / lut_inv_[a] <= 0.5f * shortest * (1 + 1e-5f)) || lut_origin_[a] != axis_[a][0] ||
+          !(static_cast<double>(lut_size_[a] - 1) / lut_inv_[a] >=
+            static_cast<double>(axis_[a][n_[a] - 1] - axis_[a][0]) * (1 - 1e-6)))
+        return say(error, error_size, "bad lookup of axis %d", a), false;
+    }
+    std::uint32_t expect = 0;
+    for (std::uint32_t b = 0; b < lut_size_[a]; ++b) {
+      const float at = lut_origin_[a] + static_cast<float>(b) / lut_inv_[a];
+      while (expect + 2 < n_[a] && at >= axis_[a][expect + 1]) ++expect;
+      if (lut_[a][b] != expect)
+        return say(error, error_size, "bad lookup entry of axis %d", a), false;
+    }
+    lut_at += lut_size_[a];
+  }
+  slots_ = u32(SPZ_SECTION_NODE_SLOTS);
+  for (std::uint64_t k = 0; k < nodes; ++k)
+    if (slots_[k] != SPZ_OUTSIDE && slots_[k] >= slots)
+      return say(error, error_size, "node %llu has a bad slot", static_cast<unsigned long long>(k)),
+             false;
+  spectra_ = static_cast<const float*>(at[SPZ_SECTION_SPECTRA]);
+  for (std::uint64_t k = 0; k < slots * bands; ++k)
+    if (!(spectra_[k] >= 0.0f) || !std::isfinite(spectra_[k]) ||
+        (reflectance && spectra_[k] > 1.0f))
+      return say(error, error_size, "a node spectrum is out of bounds"), false;
+  bcells_ = u32(SPZ_SECTION_BOUNDARY_CELLS);
+  simplices_ = u32(SPZ_SECTION_SIMPLICES);
+  bpos_ = f64(SPZ_SECTION_BOUNDARY_POSITIONS);
+  bmask_ = u32(SPZ_SECTION_BOUNDARY_MASKS);
+  bpick_ = u32(SPZ_SECTION_BOUNDARY_PICKS);
+  bvalue_ = static_cast<const float*>(at[SPZ_SECTION_BOUNDARY_VALUES]);
+  for (std::uint64_t v = 0; v < nbv; ++v) {
+    for (int c = 0; c < 3; ++c)
+      if (!detail::finite(bpos_[3 * v + c]))
+        return say(error, error_size, "bad boundary vertex"), false;
+    if ((bpick_[v] & 0xFFFFu) >= bands || (bpick_[v] >> 16) >= bands)
+      return say(error, error_size, "bad boundary vertex sample"), false;
+    for (int c = 0; c < 2; ++c) {
+      const float x = bvalue_[2 * v + c];
+      if (!(x >= 0.0f) || !std::isfinite(x) || (reflectance && x > 1.0f))
+        return say(error, error_size, "a boundary spectrum is out of bounds"), false;
+    }
+    const std::uint32_t last = bmask_[(v + 1) * h->mask_words - 1];
+    if (bands % 32 != 0 && (last >> (bands % 32)) != 0)
+      return say(error, error_size, "a boundary mask has bits beyond the samples"), false;
+  }
+  const std::uint32_t corners = reflectance ? 8 : 4;
+  for (std::uint64_t s = 0; s < nsimplex * 4; ++s) {
+    const std::uint32_t r = simplices_[s];
+    if ((r & SPZ_BOUNDARY_BIT) ? (r & ~SPZ_BOUNDARY_BIT) >= nbv : r >= corners)
+      return say(error, error_size, "a simplex has a bad vertex"), false;
+  }
+  cells_ = u32(SPZ_SECTION_CELLS);
+  const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
+  for (std::uint64_t c = 0; c < cells; ++c) {
+    const std::uint32_t code = cells_[c];
+    const int i[3] = {static_cast<int>(c % cx), static_cast<int>((c / cx) % cy),
+                      static_cast<int>(c / (static_cast<std::uint64_t>(cx) * cy))};
+    if (code == SPZ_OUTSIDE) continue;
+    if (code == 0) {
+      for (std::uint32_t k = 0; k < corners; ++k)
+        if (slot_of_corner(i, k) == SPZ_OUTSIDE)
+          return say(error, error_size, "an inside cell has a corner without spectrum"), false;
+      continue;
+    }
+    const std::uint32_t b = code & ~SPZ_BOUNDARY_BIT;
+    if (!(code & SPZ_BOUNDARY_BIT) || b >= nbc)
+      return say(error, error_size, "cell %llu has a bad code", static_cast<unsigned long long>(c)),
+             false;
+    const std::uint64_t first = bcells_[2 * b], n = bcells_[2 * b + 1];
+    if (n == 0 || first + n > nsimplex)
+      return say(error, error_size, "boundary cell %u has bad simplices", b), false;
+    for (std::uint64_t s = first * 4; s < (first + n) * 4; ++s)
+      if (!(simplices_[s] & SPZ_BOUNDARY_BIT) && slot_of_corner(i, simplices_[s]) == SPZ_OUTSIDE)
+        return say(error, error_size, "a boundary simplex has a corner without spectrum"), false;
+  }
+  const int plane_sections[2] = {SPZ_SECTION_LOCUS_PLANES, SPZ_SECTION_SOLID_PLANES};
+  for (int s : plane_sections)
+    for (std::uint64_t k = 0; k < count[s]; ++k)
+      if (!detail::finite(f64(s)[k]))
+        return say(error, error_size, "a gamut plane is not finite"), false;
+  locus_ = {f64(SPZ_SECTION_LOCUS_PLANES), count[SPZ_SECTION_LOCUS_PLANES] / 4};
+  solid_ = {f64(SPZ_SECTION_SOLID_PLANES), count[SPZ_SECTION_SOLID_PLANES] / 4};
+  for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
+  for (int a = 0; a < 3; ++a)
+    fast_[a] = {axis_[a],    inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a],
+                lut_inv_[a], static_cast<float>(lut_size_[a] - 1), n_[a]};
+  h_ = h;
+  reflectance_ = reflectance;
+  bands_ = bands;
+  mask_words_ = h->mask_words;
+  start_ = static_cast<float>(h->lambda_start);
+  step_ = static_cast<float>(h->lambda_step);
+  inv_step_ = static_cast<float>(1.0 / h->lambda_step);
+  last_ = static_cast<float>(bands - 1);
+  return true;
+}
+
+inline bool TableView::locate(const double u[3], int i[3], double f[3], bool clamp) const noexcept {
+  for (std::uint32_t a = 0; a < dims_; ++a) {
+    const float* p = axis_[a];
+    const std::uint32_t n = n_[a];
+    double v = u[a];
+    if (clamp) v = std::min(std::max(v, static_cast<double>(p[0])), static_cast<double>(p[n - 1]));
+    if (!(v >= p[0] && v <= p[n - 1])) return false;
+    const float b = (static_cast<float>(v) - lut_origin_[a]) * lut_inv_[a];
+    std::uint32_t bin = b > 0 ? static_cast<std::uint32_t>(b) : 0u;
+    if (bin >= lut_size_[a]) bin = lut_size_[a] - 1;
+    std::uint32_t k = lut_[a][bin];
+    while (k > 0 && v < p[k]) --k;
+    while (k + 2 < n && v >= p[k + 1]) ++k;
+    i[a] = static_cast<int>(k);
+    f[a] = std::min(std::max((v - p[k]) * inverse_[a][k], 0.0), 1.0);
+  }
+  if (dims_ == 2) i[2] = 0, f[2] = 0;
+  return true;
+}
+
+inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const double u[3],
+                                      Spectrum& s, bool nearest) const noexcept {
+  const std::uint32_t first = bcells_[2 * b], count = bcells_[2 * b + 1];
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = axis_[a][i[a]];
+    hi[a] = a < static_cast<int>(dims_) ? axis_[a][i[a] + 1] : lo[a];
+  }
+  double best = -1e300, best_w[4] = {0, 0, 0, 0};
+  const std::uint32_t* chosen = nullptr;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t* r = simplices_ + 4 * (static_cast<std::size_t>(first) + k);
+    double p[4][3];
+    for (int v = 0; v < 4; ++v) {
+      if (r[v] & SPZ_BOUNDARY_BIT) {
+        const double* q = bpos_ + 3 * static_cast<std::size_t>(r[v] & ~SPZ_BOUNDARY_BIT);
+        p[v][0] = q[0], p[v][1] = q[1], p[v][2] = q[2];
+      } else {
+        for (int a = 0; a < 3; ++a) p[v][a] = (r[v] >> a) & 1u ? hi[a] : lo[a];
+      }
+    }
+    double w[4];
+    const double d[3] = {u[0] - p[0][0], u[1] - p[0][1], dims_ == 3 ? u[2] - p[0][2] : 0.0};
+    if (dims_ == 3) {
+      double e[3][3];
+      for (int v = 0; v < 3; ++v)
+        for (int a = 0; a < 3; ++a) e[v][a] = p[v + 1][a] - p[0][a];
+      // Cramer: w_v = det(e with column v replaced by d) / det(e).
+      auto det3 = [](const double* a, const double* b, const double* c) {
+        return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+               a[2] * (b[0] * c[1] - b[1] * c[0]);
+      };
+      const double D = det3(e[0], e[1], e[2]);
+      if (!(D != 0)) continue;
+      w[1] = det3(d, e[1], e[2]) / D;
+      w[2] = det3(e[0], d, e[2]) / D;
+      w[3] = det3(e[0], e[1], d) / D;
+    } else {
+      const double a = p[1][0] - p[0][0], bb = p[2][0] - p[0][0];
+      const double c = p[1][1] - p[0][1], dd = p[2][1] - p[0][1];
+      const double D = a * dd - bb * c;
+      if (!(D != 0)) continue;
+      w[1] = (d[0] * dd - bb * d[1]) / D;
+      w[2] = (a * d[1] - c * d[0]) / D;
+      w[3] = 0;
+    }
+    w[0] = 1 - w[1] - w[2] - w[3];
+    double worst = std::min(std::min(w[0], w[1]), w[2]);
+    if (dims_ == 3) worst = std::min(worst, w[3]);
+    if (worst > best) {
+      best = worst, chosen = r;
+      for (int v = 0; v < 4; ++v) best_w[v] = w[v];
+      if (worst >= -1e-12) break;
+    }
+  }
+  if (!chosen) return false;
+  if (best < -1e-9) {
+    if (!nearest) return false;
+    // Within rounding of the gamut but outside the cell's simplices (float input on the
+    // boundary): the blend of the nearest point of the nearest simplex.
+    double nearest_dist = 1e300;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t* r = simplices_ + 4 * (static_cast<std::size_t>(first) + k);
+      double p[4][3], w[4];
+      for (int v = 0; v < 4; ++v)
+        for (int a = 0; a < 3; ++a)
+          p[v][a] = (r[v] & SPZ_BOUNDARY_BIT)
+                        ? bpos_[3 * static_cast<std::size_t>(r[v] & ~SPZ_BOUNDARY_BIT) + a]
+                        : ((r[v] >> a) & 1u ? hi[a] : lo[a]);
+      const double x[3] = {u[0], u[1], dims_ == 3 ? u[2] : p[0][2]};
+      const double dist = detail::closest_in_simplex(p, static_cast<int>(dims_), x, w);
+      if (dist < nearest_dist) {
+        nearest_dist = dist, chosen = r;
+        for (int v = 0; v < 4; ++v) best_w[v] = w[v];
+      }
+    }
+  }
+  double sum = 0;
+  for (double& w : best_w) sum += (w = std::max(w, 0.0));
+  s.flags &= ~1u;
+  for (int v = 0; v < 4; ++v) {
+    const std::uint32_t r = chosen[v];
+    if (r & SPZ_BOUNDARY_BIT) {
+      s.vertex[v] = r;
+      s.flags |= 1u;
+    } else {
+      s.vertex[v] = slot_of_corner(i, r);
+    }
+    s.weight[v] = static_cast<float>(best_w[v] / sum);
+  }
+  return true;
+}
+
+inline bool TableView::cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
+                                  bool nearest) const noexcept {
+  const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
+  const std::uint32_t code =
+      cells_[static_cast<std::uint32_t>(i[0]) +
+             cx * (static_cast<std::uint32_t>(i[1]) + cy * static_cast<std::uint32_t>(i[2]))];
+  if (code == 0) {
+    // Kuhn's simplices: from the lower corner along the axes in decreasing order of the
+    // fractional coordinates; the weights are the gaps between them.
+    int order[3] = {0, 1, 2};
+    if (dims_ == 2) {
+      if (f[1] > f[0]) order[0] = 1, order[1] = 0;
+    } else {
+      if (f[order[1]] > f[order[0]]) std::swap(order[0], order[1]);
+      if (f[order[2]] > f[order[1]]) std::swap(order[1], order[2]);
+      if (f[order[1]] > f[order[0]]) std::swap(order[0], order[1]);
+    }
+    std::uint32_t corner = 0;
+    double prev = 1;
+    s.flags &= ~1u;
+    for (std::uint32_t k = 0; k <= dims_; ++k) {
+      const double fk = k < dims_ ? f[order[k]] : 0.0;
+      s.vertex[k] = slot_of_corner(i, corner);
+      s.weight[k] = static_cast<float>(prev - fk);
+      prev = fk;
+      if (k < dims_) corner |= 1u << order[k];
+    }
+    if (dims_ == 2) s.vertex[3] = s.vertex[0], s.weight[3] = 0;
+    return true;
+  }
+  if (code == SPZ_OUTSIDE) return false;
+  return boundary_blend(code & ~SPZ_BOUNDARY_BIT, i, u, s, nearest);
+}
+
+// The lookup of fetch(): float arithmetic, one interval step after the bin, Kuhn weights in
+// float; boundary cells in double (boundary_blend).
+template <int dims>
+inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept {
+  std::uint32_t i[3] = {0, 0, 0};
+  float f[3] = {0, 0, 0};
+  bool inside = true;
+  for (int a = 0; a < dims; ++a) {
+    const AxisFast& x = fast_[a];
+    const float v = u[a];
+    inside = inside && v >= x.p[0] && v <= x.p[x.n - 1];  // false for NaN
+    const float b = std::min(std::max((v - x.origin) * x.inv_bin, 0.0f), x.last_bin);
+    std::uint32_t k = x.lut[static_cast<std::uint32_t>(b)];
+    k -= static_cast<std::uint32_t>(k > 0) & static_cast<std::uint32_t>(v < x.p[k]);
+    k += static_cast<std::uint32_t>(k + 2 < x.n) & static_cast<std::uint32_t>(v >= x.p[k + 1]);
+    i[a] = k;
+    f[a] = std::min(std::max((v - x.p[k]) * x.inv[k], 0.0f), 1.0f);
+  }
+  if (!inside) return false;
+  const std::uint32_t nx = n_[0], nxy = n_[0] * n_[1];
+  const std::uint32_t code = cells_[i[0] + (nx - 1) * (i[1] + (n_[1] - 1) * i[2])];
+  if (code != 0) {
+    if (code == SPZ_OUTSIDE) return false;
+    const int ii[3] = {static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])};
+    const double du[3] = {u[0], u[1], dims == 3 ? u[2] : 0.0};
+    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false);
+  }
+  // Kuhn: the axes in decreasing order of their fractions; the weights are the gaps.
+  const std::uint32_t base = i[0] + nx * i[1] + nxy * i[2];
+  s.flags &= ~1u;
+  if constexpr (dims == 2) {
+    const bool xy = f[0] >= f[1];
+    const float hi = xy ? f[0] : f[1], lo = xy ? f[1] : f[0];
+    s.vertex[0] = s.vertex[3] = slots_[base];
+    s.vertex[1] = slots_[base + (xy ? 1 : nx)];
+    s.vertex[2] = slots_[base + 1 + nx];
+    s.weight[0] = 1 - hi, s.weight[1] = hi - lo, s.weight[2] = lo, s.weight[3] = 0;
+    return true;
+  } else {
+    // Without branches (the order of noisy texels' fractions is unpredictable): each axis'
+    // rank among the three (ties by axis order), the walk's first and second steps from the
+    // ranks, the weights from max, middle and min.
+    const std::uint32_t gt01 = f[1] > f[0], gt02 = f[2] > f[0], gt12 = f[2] > f[1];
+    const std::uint32_t r0 = gt01 + gt02, r1 = (1 - gt01) + gt12, r2 = (1 - gt02) + (1 - gt12);
+    const std::uint32_t first = (r0 == 0) * 1 + (r1 == 0) * nx + (r2 == 0) * nxy;
+    const std::uint32_t second = (r0 == 1) * 1 + (r1 == 1) * nx + (r2 == 1) * nxy;
+    const float hi = std::max(std::max(f[0], f[1]), f[2]);
+    const float lo = std::min(std::min(f[0], f[1]), f[2]);
+    const float mid = f[0] + f[1] + f[2] - hi - lo;
+    s.vertex[0] = slots_[base];
+    s.vertex[1] = slots_[base + first];
+    s.vertex[2] = slots_[base + first + second];
+    s.vertex[3] = slots_[base + 1 + nx + nxy];
+    s.weight[0] = 1 - hi;
+    s.weight[1] = hi - mid;
+    s.weight[2] = mid - lo;
+    s.weight[3] = lo;
+    return true;
+  }
+}
+
+inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest) const noexcept {
+  int i[3] = {0, 0, 0};  // set by locate(); initialised for GCC's -Wmaybe-uninitialized
+  double f[3] = {0, 0, 0};
+  if (!locate(u, i, f, nearest)) return false;
+  if (cell_blend(i, f, u, s, false)) return true;
+  if (!nearest) return false;
+  // A point on a face between cells (the solid's white vertex is a corner of cells outside
+  // it) belongs to the neighbours that touch it too; else the nearest simplex of its cell.
+  for (std::uint32_t c = 1; c < (1u << dims_); ++c) {
+    int j[3] = {i[0], i[1], i[2]};
+    double g[3] = {f[0], f[1], f[2]};
+    bool touches = true;
+    for (std::uint32_t a = 0; a < dims_ && touches; ++a) {
+      if (!((c >> a) & 1u)) continue;
+      if (f[a] <= 1e-9 && i[a] > 0) {
+        --j[a], g[a] = 1;
+      } else if (f[a] >= 1 - 1e-9 && static_cast<std::uint32_t>(i[a]) + 2 < n_[a]) {
+        ++j[a], g[a] = 0;
+      } else {
+        touches = false;
+      }
+    }
+    if (touches && cell_blend(j, g, u, s, false)) return true;
+  }
+  return cell_blend(i, f, u, s, true);
+}
+
+inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
+  s.table = this;
+  s.flags = reflectance_ ? 2u : 0u;
+  if (reflectance_) {
+    s.scale = 1;
+    if (fast_blend<3>(rgb, s)) return SPZ_EXACT;
+  } else {
+    const float* m = to_target_f_;
+    const float X = m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2];
+    const float Y = m[3] * rgb[0] + m[4] * rgb[1] + m[5] * rgb[2];
+    const float Z = m[6] * rgb[0] + m[7] * rgb[1] + m[8] * rgb[2];
+    const float S = X + Y + Z;
+    if (S > 0 && std::isfinite(S)) {
+      const float u[3] = {X / S, Y / S, 0};
+      s.scale = S;
+      if (fast_blend<2>(u, s)) return SPZ_EXACT;
+    }
+  }
+  return slow_fetch(rgb, s);
+}
+
+inline int TableView::map_target(detail::Vec3& t) const noexcept {
+  // The CLI's rule (docs/DESIGN.md §5), step by step in double precision.
+  const detail::Gamut& gamut = reflectance_ ? solid_ : locus_;
+  if (gamut.contains(t)) return SPZ_EXACT;
+  const detail::Vec3 requested = t;
+  auto move_toward = [&](const detail::Gamut& g, double margin, const detail::Vec3& anchor) {
+    if (g.contains(t)) return;
+    const double sb = g.max_step(anchor, t);
+    const double k = sb >= 2 * margin ? sb - margin : 0.5 * sb;
+    t = {anchor.x + k * (t.x - anchor.x), anchor.y + k * (t.y - anchor.y),
+         anchor.z + k * (t.z - anchor.z)};
+  };
+  const double* lw = h_->locus_white;
+  if (!locus_.contains(t)) {
+    const double y = t.y / lw[1];
+    move_toward(locus_, h_->locus_margin, {y * lw[0], y * lw[1], y * lw[2]});
+  }
+  if (reflectance_ && !solid_.contains(t)) {
+    if (t.y > 1) move_toward(solid_, h_->solid_margin, {0, 0, 0});
+    if (!solid_.contains(t)) {
+      const double* sw = h_->solid_white;
+      move_toward(solid_, h_->solid_margin, {t.y * sw[0], t.y * sw[1], t.y * sw[2]});
+    }
+  }
+  const detail::Vec3 d{t.x - requested.x, t.y - requested.y, t.z - requested.z};
+  const double scale = detail::max_abs(requested);
+  if (scale > 0 && detail::max_abs(d) / scale <= h_->snap_tolerance) return SPZ_EXACT;
+  return SPZ_MAPPED;
+}
+
+inline int TableView::slow_fetch(const float rgb[3], Spectrum& s) const noexcept {
+  const detail::Vec3 c{rgb[0], rgb[1], rgb[2]};
+  detail::Vec3 t = detail::mul(h_->rgb_to_target, c);
+  zero(s);
+  if (!detail::finite(t.x) || !detail::finite(t.y) || !detail::finite(t.z)) return SPZ_INVALID;
+  if (t.x == 0 && t.y == 0 && t.z == 0) return SPZ_EXACT;  // black
+  if (t.y < 0) return SPZ_NEGATIVE;
+  const int status = map_target(t);
+  if (!(t.y > 0)) return SPZ_MAPPED;  // a colour of zero luminance maps to black
+  double u[3];
+  if (reflectance_) {
+    const detail::Vec3 r = detail::mul(h_->target_to_rgb, t);
+    u[0] = r.x, u[1] = r.y, u[2] = r.z;
+    s.scale = 1;
+  } else {
+    const double S = t.x + t.y + t.z;
+    u[0] = t.x / S, u[1] = t.y / S, u[2] = 0;
+    s.scale = static_cast<float>(S);
+  }
+  // Inside the gamut (within its rounding, or mapped 1e-4 short of its boundary): the nearest
+  // simplex of the cell holds it.
+  if (!blend(u, s, true)) zero(s);
+  return status;
+}
+
+inline int TableView::map_into_gamut(const double rgb[3], double mapped[3]) const noexcept {
+  const detail::Vec3 c{rgb[0], rgb[1], rgb[2]};
+  detail::Vec3 t = detail::mul(h_->rgb_to_target, c);
+  mapped[0] = mapped[1] = mapped[2] = 0;
+  if (!detail::finite(t.x) || !detail::finite(t.y) || !detail::finite(t.z)) return SPZ_INVALID;
+  if (t.x == 0 && t.y == 0 && t.z == 0) return SPZ_EXACT;
+  if (t.y < 0) return SPZ_NEGATIVE;
+  const int status = map_target(t);
+  if (!(t.y > 0)) return SPZ_MAPPED;
+  const detail::Vec3 r = detail::mul(h_->target_to_rgb, t);
+  mapped[0] = r.x, mapped[1] = r.y, mapped[2] = r.z;
+  return status;
+}
+
+// --- Table ---
+
+inline bool Table::load(const char* path, char* error, std::size_t error_size) noexcept {
+  release();
+  char reason[400] = "";
+  auto fail = [&](const char* why) {
+    detail::say(error, error_size, "%s: %s", path ? path : "(null)", why);
+    return false;
+  };
+  if (!path) return fail("no path given");
+#if defined(__unix__) || defined(__APPLE__)
+  struct stat st;
+  if (::stat(path, &st) != 0) return fail(std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) return fail("is a directory, not a table file");
+  if (!S_ISREG(st.st_mode)) return fail("not a regular file");
+#endif
+  std::FILE* file = std::fopen(path, "rb");
+  if (!file) return fail(std::strerror(errno));
+  long length = -1;
+  if (std::fseek(file, 0, SEEK_END) == 0) length = std::ftell(file);
+  if (length < 0 || std::fseek(file, 0, SEEK_SET) != 0) {
+    std::fclose(file);
+    return fail("cannot read its size");
+  }
+  constexpr long kMax = 1L << 30;
+  if (length > kMax) {
+    std::fclose(file);
+    return fail("larger than 1 GiB: not a table");
+  }
+  const std::size_t size = static_cast<std::size_t>(length);
+  data_ = static_cast<unsigned char*>(
+      ::operator new(std::max<std::size_t>(size, 1), std::align_val_t(64), std::nothrow));
+  if (!data_) {
+    std::fclose(file);
+    return fail("out of memory");
+  }
+  const std::size_t got = size ? std::fread(data_, 1, size, file) : 0;
+  const bool read_error = std::ferror(file) != 0;
+  std::fclose(file);
+  if (got != size || read_error) {
+    release();
+    return fail("cannot read it whole");
+  }
+  size_ = size;
+  if (!view_.open(data_, size_, reason, sizeof reason)) {
+    release();
+    return fail(reason);
+  }
+  return true;
+}
+
+}  // namespace spz
+
+/// A loaded table of the C API.
+struct spz_table {
+  spz::Table table;
+};
+
+#endif  // SPECTRALIZE_RT_HPP
+
+// The C API's definitions, in the one translation unit that defines
+// SPECTRALIZE_RT_IMPLEMENTATION (outside the include guard: rt.hpp may have been included
+// before without it).
+#if defined(SPECTRALIZE_RT_IMPLEMENTATION) && !defined(SPECTRALIZE_RT_C_DEFINED)
+#define SPECTRALIZE_RT_C_DEFINED
+extern "C" {
+
+spz_table* spz_table_load(const char* path, char* error, size_t error_size) {
+  spz_table* t = new (std::nothrow) spz_table;
+  if (!t) {
+    spz::detail::say(error, error_size, "%s: out of memory", path ? path : "(null)");
+    return nullptr;
+  }
+  if (!t->table.load(path, error, error_size)) {
+    delete t;
+    return nullptr;
+  }
+  return t;
+}
+
+void spz_table_free(spz_table* table) {
+  delete table;
+}
+
+int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out) {
+  return table->table.view().fetch(rgb, *out);
+}
+
+float spz_eval(const spz_spectrum* s, float lambda_nm) {
+  return spz::eval(*s, lambda_nm);
+}
+
+void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]) {
+  spz::eval4(*s, lambda_nm, out);
+}
+
+void spz_samples(const spz_spectrum* s, float* out) {
+  spz::samples(*s, out);
+}
+
+size_t spz_table_bands(const spz_table* table) {
+  return table->table.view().bands();
+}
+
+void spz_table_wavelengths(const spz_table* table, float* start_nm, float* step_nm) {
+  if (start_nm) *start_nm = table->table.view().lambda_start();
+  if (step_nm) *step_nm = table->table.view().lambda_step();
+}
+
+int spz_table_mode(const spz_table* table) {
+  return table->table.view().reflectance() ? 1 : 0;
+}
+
+const char* spz_table_colorspace(const spz_table* table) {
+  return table->table.view().header().colorspace;
+}
+
+void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]) {
+  for (int k = 0; k < 9; ++k) matrix[k] = table->table.view().header().rgb_to_xyz[k];
+}
+
+}  // extern "C"
+#endif

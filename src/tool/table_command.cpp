@@ -1,0 +1,43 @@
+// spectralize table -o NAME.spztab: the render-time table of a colour space (io/render_table.h).
+
+#include <fmt/core.h>
+
+#include <memory>
+#include <string>
+
+#include "core/error.h"
+#include "io/render_table.h"
+#include "io/safe_output.h"
+#include "tool/flags.h"
+#include "tool/options.h"
+
+namespace spectralize::tool {
+
+int run_table(const Options& opt) {
+  if (opt.output.empty()) throw UsageError{"table: -o NAME.spztab is required"};
+  if (!opt.inputs.empty())
+    throw UsageError{"table takes no input files (got '" + clip(opt.inputs[0]) + "')"};
+  Settings s;
+  try {
+    s = checked_table_settings(opt.settings, opt.output, OptionNames{"--", "-o"});
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError{e.what()};
+  }
+  // The destination is checked (and its temporary made) before the work.
+  AtomicOutput out(opt.output, {});
+  const RenderTable table = make_render_table(s, console_log(opt.verbosity));
+  out.write(table.bytes);
+  out.commit();
+  if (opt.verbosity > 0)
+    fmt::print(stderr,
+               "spectralize: wrote '{}': {}, {}, {}, {}; {:.1f} MB, {} node spectra, {} boundary "
+               "cells; {:.1f} s\n",
+               opt.output, table.colorspace, to_string(s.spectral.mode), s.spectral.model,
+               s.spectral.grid.to_string(), static_cast<double>(table.bytes.size()) / 1e6,
+               table.spectra, table.boundary_cells, table.seconds);
+  return kExitOk;
+}
+
+}  // namespace spectralize::tool

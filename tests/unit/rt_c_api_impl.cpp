@@ -1,0 +1,4 @@
+// The C API's definitions for rt_c_api_test.c: the one C++ translation unit that defines
+// SPECTRALIZE_RT_IMPLEMENTATION (include/spectralize/rt.h).
+#define SPECTRALIZE_RT_IMPLEMENTATION
+#include <spectralize/rt.h>
