@@ -2,6 +2,7 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -405,54 +406,117 @@ namespace {
 // EXR chromaticities attribute says) and as a D65-referred config sees them after its Bradford
 // adaptation to D65 (measured through OCIO's built-in ACES transforms).
 struct KnownSpace {
-  const char* linear;  // interop ID of the scene-linear encoding
-  const char* srgb;    // interop ID of the sRGB-curve encoding, or ""
-  const char* g22;     // interop ID of the 2.2-gamma encoding, or ""
+  const char* primaries;  // the interop ID's primaries part: "rec709", "ap1", ...
   std::array<float, 8> native, adapted;
 };
 constexpr float kD65x = 0.3127f, kD65y = 0.3290f;
 // clang-format off
 const KnownSpace kKnown[] = {
-    {"lin_rec709_scene", "srgb_rec709_scene", "g22_rec709_scene",
+    {"rec709",
      {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y},
      {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"lin_rec2020_scene", "", "",
+    {"rec2020",
      {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y},
      {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y}},
-    {"lin_p3d65_scene", "srgb_p3d65_scene", "",
+    {"p3d65",
      {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y},
      {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y}},
-    {"lin_adobergb_scene", "", "g22_adobergb_scene",
+    {"adobergb",
      {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y},
      {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"lin_ap1_scene", "", "",
+    {"ap1",
      {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f},
      {0.713196f, 0.292689f, 0.159509f, 0.838789f, 0.128673f, 0.043896f, kD65x, kD65y}},
-    {"lin_ap0_scene", "", "",
+    {"ap0",
      {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f},
      {0.734855f, 0.264225f, -0.006171f, 1.011315f, 0.015968f, -0.064236f, kD65x, kD65y}},
-    {"lin_ciexyzd65_scene", "", "",
+    {"ciexyzd65",
      {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f},
      {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f}},
 };
 // clang-format on
 
-bool same_xy(const std::array<float, 8>& a, const float* b) {
-  for (int i = 0; i < 8; ++i)
-    if (std::abs(a[i] - b[i]) > 2e-3f) return false;
-  return true;
+// The interop IDs of the Color Interop Forum that a measurement can tell apart: a transfer
+// that is linear, the sRGB curve or a pure gamma, on known primaries, scene- or
+// display-referred.
+const char* const kInteropIds[] = {
+    "lin_rec709_scene",   "lin_rec2020_scene",  "lin_p3d65_scene",      "lin_adobergb_scene",
+    "lin_ap1_scene",      "lin_ap0_scene",      "lin_ciexyzd65_scene",  "srgb_rec709_scene",
+    "g22_rec709_scene",   "g18_rec709_scene",   "srgb_ap1_scene",       "g22_ap1_scene",
+    "srgb_p3d65_scene",   "g22_adobergb_scene", "srgb_rec709_display",  "g24_rec709_display",
+    "g22_rec709_display", "srgb_p3d65_display", "g22_adobergb_display", "g26_p3d65_display"};
+
+// Bradford's cone response matrix (Lam 1985), and its inverse.
+constexpr double kBradford[3][3] = {
+    {0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}};
+constexpr double kBradfordInverse[3][3] = {{0.986992905, -0.147054256, 0.159962652},
+                                           {0.43230527, 0.518360272, 0.049291228},
+                                           {-0.008528665, 0.040042822, 0.968486696}};
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 mul(const double m[3][3], const Vec3& v) {
+  return {m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+          m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+          m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2]};
+}
+
+Vec3 xyz_of_xy(double x, double y) {
+  return {x / y, 1.0, (1 - x - y) / y};
 }
 
 }  // namespace
 
+std::array<float, 8> adapt_chromaticities_to_d65(const float* xy) {
+  // RGB -> XYZ of the file's primaries, scaled so that RGB 1 is its white.
+  Vec3 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = xyz_of_xy(xy[2 * i], xy[2 * i + 1]);
+  const Vec3 w = xyz_of_xy(xy[6], xy[7]);
+  const double det = p[0][0] * (p[1][1] * p[2][2] - p[2][1] * p[1][2]) -
+                     p[1][0] * (p[0][1] * p[2][2] - p[2][1] * p[0][2]) +
+                     p[2][0] * (p[0][1] * p[1][2] - p[1][1] * p[0][2]);
+  std::array<float, 8> out{};
+  if (!(std::abs(det) > 1e-12) || !(xy[7] > 0) || !(xy[1] > 0) || !(xy[3] > 0) || !(xy[5] != 0)) {
+    for (int i = 0; i < 8; ++i) out[i] = xy[i];
+    return out;
+  }
+  // Scales s with sum_i s_i p_i = w (Cramer's rule).
+  auto det3 = [](const Vec3& a, const Vec3& b, const Vec3& c) {
+    return a[0] * (b[1] * c[2] - c[1] * b[2]) - b[0] * (a[1] * c[2] - c[1] * a[2]) +
+           c[0] * (a[1] * b[2] - b[1] * a[2]);
+  };
+  const double s[3] = {det3(w, p[1], p[2]) / det, det3(p[0], w, p[2]) / det,
+                       det3(p[0], p[1], w) / det};
+  // Von Kries in Bradford's cone space, from the white to D65.
+  const Vec3 from = mul(kBradford, w), to = mul(kBradford, xyz_of_xy(kD65x, kD65y));
+  for (int i = 0; i < 3; ++i) {
+    Vec3 c = mul(kBradford, {p[i][0] * s[i], p[i][1] * s[i], p[i][2] * s[i]});
+    for (int k = 0; k < 3; ++k) c[k] *= to[k] / from[k];
+    const Vec3 a = mul(kBradfordInverse, c);
+    const double sum = a[0] + a[1] + a[2];
+    out[2 * i] = static_cast<float>(a[0] / sum);
+    out[2 * i + 1] = static_cast<float>(a[1] / sum);
+  }
+  out[6] = kD65x;
+  out[7] = kD65y;
+  return out;
+}
+
+double chromaticity_difference(const float* a, const float* b) {
+  double d = 0;
+  for (int i = 0; i < 8; ++i) d = std::max(d, std::abs(static_cast<double>(a[i]) - b[i]));
+  return d;
+}
+
 std::string interop_id_of_chromaticities(const float* xy) {
+  const std::array<float, 8> adapted = adapt_chromaticities_to_d65(xy);
   for (const KnownSpace& k : kKnown)
-    if (same_xy(k.native, xy)) return k.linear;
+    if (chromaticity_difference(k.adapted.data(), adapted.data()) <= kChromaticityTolerance)
+      return std::string("lin_") + k.primaries + "_scene";
   return "";
 }
 
-std::optional<std::array<float, 8>> ColourSpaces::derived_chromaticities(
-    std::string_view space) const {
+std::optional<std::array<float, 8>> ColourSpaces::primaries_d65(std::string_view space) const {
   if (is_data(space)) return std::nullopt;
   const ColourTransform t = to_xyz(space);
   // The primaries are the XYZ of the unit RGB vectors; 0 and 1 survive any transfer function.
@@ -467,18 +531,24 @@ std::optional<std::array<float, 8>> ColourSpaces::derived_chromaticities(
   return xy;
 }
 
+bool ColourSpaces::is_display_referred(std::string_view space) const {
+  auto cs = config_of(config_)->getColorSpace(std::string(space).c_str());
+  return cs && cs->getReferenceSpaceType() == OCIO::REFERENCE_SPACE_DISPLAY;
+}
+
 std::optional<std::array<float, 8>> ColourSpaces::chromaticities(std::string_view space) const {
   // A known space is tagged with its standard's own primaries and white, as files expect
   // (ACEScg: the ACES white, not the D65 the config adapts it to).
-  const auto derived = derived_chromaticities(space);
+  const auto derived = primaries_d65(space);
   if (!derived) return std::nullopt;
   for (const KnownSpace& k : kKnown)
-    if (same_xy(k.adapted, derived->data())) return k.native;
+    if (chromaticity_difference(k.adapted.data(), derived->data()) <= kChromaticityTolerance)
+      return k.native;
   return derived;
 }
 
 std::optional<IccTransfer> ColourSpaces::transfer(std::string_view space) const {
-  if (is_data(space) || !derived_chromaticities(space)) return std::nullopt;
+  if (is_data(space) || !primaries_d65(space)) return std::nullopt;
   // Greys keep the white's chromaticity, so Y(v) / Y(1) is the transfer function at v.
   const ColourTransform t = to_xyz(space);
   const double white = t(1, 1, 1).Y;
@@ -503,18 +573,31 @@ std::optional<IccTransfer> ColourSpaces::transfer(std::string_view space) const 
 
 std::string ColourSpaces::interop_id(std::string_view space) const {
   if (is_data(space)) return "data";
-  const auto xy = derived_chromaticities(space);
+  const auto xy = primaries_d65(space);
   if (!xy) return "";
-  const bool linear = is_linear(space);
   for (const KnownSpace& k : kKnown) {
-    if (!same_xy(k.adapted, xy->data())) continue;
-    if (linear) return k.linear;
-    // An encoded space, recognised by its value at 0.5: the sRGB curve gives 0.2140, a 2.2
-    // gamma (or Adobe's 563/256) 0.2176.
-    const Xyz half = to_xyz(space)(0.5, 0.5, 0.5), one = to_xyz(space)(1, 1, 1);
-    const double v = half.Y / one.Y;
-    if (*k.srgb && std::abs(v - 0.21404) < 1e-3) return k.srgb;
-    if (*k.g22 && std::abs(v - 0.21764) < 1e-3) return k.g22;
+    if (chromaticity_difference(k.adapted.data(), xy->data()) > kChromaticityTolerance) continue;
+    // The encoding, recognised by its value at 0.5: linear 0.5, the sRGB curve 0.2140, a gamma
+    // of 2.2 (or Adobe's 563/256) 0.2176, 1.8 0.2872, 2.4 0.1895, 2.6 0.1649.
+    std::string curve;
+    if (is_linear(space)) {
+      curve = "lin";
+    } else {
+      const Xyz half = to_xyz(space)(0.5, 0.5, 0.5), one = to_xyz(space)(1, 1, 1);
+      const double v = half.Y / one.Y;
+      const std::pair<const char*, double> curves[] = {{"srgb", 0.21404},
+                                                       {"g22", 0.21764},
+                                                       {"g18", 0.28717},
+                                                       {"g24", 0.18946},
+                                                       {"g26", 0.16494}};
+      for (const auto& [name, at_half] : curves)
+        if (std::abs(v - at_half) < 1e-3) curve = name;
+    }
+    if (curve.empty()) return "";
+    const std::string id =
+        curve + "_" + k.primaries + (is_display_referred(space) ? "_display" : "_scene");
+    for (const char* known : kInteropIds)
+      if (id == known) return id;
     return "";
   }
   return "";

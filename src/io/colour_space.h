@@ -78,8 +78,17 @@ class ColourSpaces {
   /// nullopt otherwise (log, PQ, data). Cost: an OCIO processor.
   std::optional<IccTransfer> transfer(std::string_view space) const;
   /// The colour interop ID (e.g. "lin_ap1_scene") of a space whose primaries, white and
-  /// encoding match a known one, or "". Cost: an OCIO processor.
+  /// encoding match a known one, or "": "<curve>_<primaries>_scene", or "..._display" for a
+  /// display-referred space (what an OCIO display's view writes, e.g. "srgb_rec709_display").
+  /// Cost: a few OCIO processors.
   std::string interop_id(std::string_view space) const;
+  /// True when the config defines the space by its display reference (the output of a
+  /// display's view, e.g. ACES configs' "sRGB - Display"). Cost: O(1).
+  bool is_display_referred(std::string_view space) const;
+  /// The primaries and white as CIE xy as XYZ-D65 sees them (after the config's adaptation of
+  /// the space's white to D65), what a file's adapted chromaticities are compared with;
+  /// nullopt for data or a space without RGB primaries. Cost: an OCIO processor.
+  std::optional<std::array<float, 8>> primaries_d65(std::string_view space) const;
   /// The canonical name of a colour space given by name, alias or role (case-insensitive);
   /// throws Error listing the valid names. Cost: O(spaces).
   std::string resolve(std::string_view name) const;
@@ -103,15 +112,26 @@ class ColourSpaces {
 
  private:
   ColourTransform transform(std::string_view space, bool to_xyz) const;
-  /// The primaries and white as XYZ-D65 sees them (after the config's adaptation).
-  std::optional<std::array<float, 8>> derived_chromaticities(std::string_view space) const;
   std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
   std::string origin_;
   std::string file_;  // the config file ("" : the shipped one)
 };
 
-/// The interop ID of a file's chromaticities (red, green, blue, white xy) when they are a known
-/// standard's (Rec.709, Rec.2020, P3-D65, Adobe RGB, AP1, AP0, XYZ), else "". Cost: O(1).
+/// Chromaticities that are the same primaries: the largest difference in CIE xy of any of the
+/// eight numbers, after adapting both whites to D65 (docs/DESIGN.md §9).
+inline constexpr double kChromaticityTolerance = 2e-3;
+
+/// `xy` (red, green, blue, white as CIE xy) with the white Bradford-adapted to D65 and the
+/// primaries with it: the primaries as a D65-referred config sees them (Rec.709 primaries
+/// adapted to D50, as Photoshop writes them, give Rec.709 back). Cost: O(1).
+std::array<float, 8> adapt_chromaticities_to_d65(const float* xy);
+
+/// The largest |a[i] - b[i]| of two sets of eight chromaticities. Cost: O(1).
+double chromaticity_difference(const float* a, const float* b);
+
+/// The linear interop ID of a file's chromaticities (red, green, blue, white xy) when, adapted
+/// to D65, they are a known standard's (Rec.709, Rec.2020, P3-D65, Adobe RGB, AP1, AP0, XYZ)
+/// within kChromaticityTolerance, else "". Cost: O(1).
 std::string interop_id_of_chromaticities(const float* xy);
 
 /// Name of the shipped default linear space (scene_linear of the shipped config). Cost: O(1).

@@ -113,7 +113,7 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   p.converter = std::make_unique<SpectralConverter>(SpectralConverter::Setup{
       *p.spectralizer, *p.table, in.channels, spec.nchannels, straight_alpha,
       spaces.to_xyz(in.colorspace), spaces.from_xyz(rep.preview_colorspace), *p.layout, s.half,
-      s.threads});
+      s.threads, context.share});
 }
 
 // The persistent node cache, keyed by everything the nodes depend on. An unusable cache is

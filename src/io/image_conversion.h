@@ -18,6 +18,7 @@
 #include "io/job_log.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
+#include "io/thread_share.h"
 
 namespace spectralize {
 
@@ -31,7 +32,8 @@ struct ConversionContext {
   TablePool* pool = nullptr;                            // spectralizers, tables and the cache
   const ColourSpaces* spaces = nullptr;                 // the config, parsed once
   const InputInterpretation* interpretation = nullptr;  // the input, decided by the caller
-  HeaderAttributes attributes;  // more header attributes (they win over the conversion's)
+  const ThreadShare* share = nullptr;  // a batch's cores: its share, asked at every convert()
+  HeaderAttributes attributes;         // more header attributes (they win over the conversion's)
   // A file job's: the header records the warnings known before the pixels
   // (kWarningsAttribute) and room for the counts (count_attributes, zero until the job fills
   // them in at the end: fixed-size doubles, so nothing moves).

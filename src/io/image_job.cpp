@@ -140,7 +140,8 @@ class Sink {
 // Memory is O(strip), not O(image). Returns (convert, write) seconds.
 std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std::string& format,
                                  const OIIO::ImageSpec& ospec, const RowsFn& convert,
-                                 const ProgressFn& progress, int threads) {
+                                 const ProgressFn& progress, int threads,
+                                 const ThreadShare* share = nullptr) {
   const OIIO::ImageSpec& spec = in.spec();
   const std::string& output = file.destination();
   const int nch = spec.nchannels, out_nch = ospec.nchannels;
@@ -203,7 +204,7 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     // --threads 1 the write runs here, so the job never keeps more than one core busy.
     if (writing.valid()) writing.get();
     t_write += seconds_since(t1);
-    if (threads == 1)
+    if ((share ? share->now() : threads) == 1)
       sink.write(y0, y1, out);
     else
       writing = std::async(std::launch::async, [&sink, y0, y1, out] { sink.write(y0, y1, out); });
@@ -268,7 +269,7 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   auto [t_convert, t_write] = stream(
       reader, file, "openexr", conversion.output_spec(),
       [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
-      progress, settings.threads);
+      progress, settings.threads, options.shared.share);  // a batch's share: asked per strip
   ImageReport rep = conversion.finish(log);
   rep.output = output;
   rep.mip_levels = reader.mip_levels();
@@ -405,7 +406,8 @@ ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
          "them (the spectra are brighter than float can integrate)");
   if (total.clipped > 0)
     warn("'" + output + "': " + std::to_string(total.clipped) +
-         " pixels have values outside 0..1, clipped by the integer format");
+         " pixels have values outside 0..1 by more than half a code value, clipped by the "
+         "integer format");
   rep.clipped_pixels = total.clipped;
   rep.seconds = seconds_since(t_start);
   if (before_commit) before_commit(rep);

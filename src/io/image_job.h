@@ -15,6 +15,7 @@
 #include "io/safe_output.h"
 #include "io/settings.h"
 #include "io/table_pool.h"
+#include "io/thread_share.h"
 
 namespace spectralize {
 

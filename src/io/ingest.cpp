@@ -26,6 +26,7 @@
 #include "io/ingest_manifest.h"
 #include "io/input_interpretation.h"
 #include "io/json_text.h"
+#include "io/map_kind.h"
 #include "io/safe_output.h"
 #include "io/table_pool.h"
 
@@ -57,33 +58,6 @@ std::string quoted_path(const std::string& p) {
   return quote(p, 200);
 }
 
-// A word of a file name found in a rule list, and where it ends in the name (the index of its
-// last part: name_words lists the parts, then each pair of neighbours).
-struct WordHit {
-  std::string word;
-  int end = -1;
-  explicit operator bool() const { return !word.empty(); }
-};
-
-// The longest word of the name that is in `list` ("basecolor" rather than "color").
-WordHit word_in(const std::vector<std::string>& words, const std::string& list) {
-  std::set<std::string> names;
-  for (const auto& n : OIIO::Strutil::splits(list, ",")) names.insert(n);
-  const int parts = static_cast<int>(words.size() + 1) / 2;
-  WordHit hit;
-  for (int i = 0; i < static_cast<int>(words.size()); ++i)
-    if (names.count(words[i]) && words[i].size() > hit.word.size())
-      hit = {words[i], i < parts ? i : i - parts + 1};
-  return hit;
-}
-
-// Whether `a` names the map rather than `b`: texture names put the map's kind last
-// ("metal_plate_basecolor" is a colour map of a metal plate), then the longer word.
-bool names_the_map(const WordHit& a, const WordHit& b) {
-  if (!b) return true;
-  return a.end != b.end ? a.end > b.end : a.word.size() > b.word.size();
-}
-
 // What identifies an output's input apart from the settings: the version, the input by its
 // place in its source tree (what the output mirrors: the same on every machine that mounts the
 // library elsewhere), its size and modification time, and the config by its content.
@@ -93,8 +67,11 @@ std::string key_prefix(const IngestItem& item, const struct stat& st, const std:
          std::to_string(st.st_mtim.tv_nsec) + "|" + config;
 }
 
-// The up-to-date key: the prefix and every setting that shapes the file, as resolved for it,
-// from the same list its header records (file_settings).
+// The up-to-date key: the prefix and every setting that shapes the file, as resolved for it
+// (its colour space and mode as interpret_colour and decide_light_or_surface decided them, by
+// the name table in force), from the same list its header records (file_settings). So a
+// changed name table or rule redoes exactly the files it decides otherwise; one that only
+// restates a decision (--colorspace naming the space a file was decided in) keeps the file.
 std::string ingest_key(const std::string& prefix, const Settings& resolved) {
   std::string text = prefix;
   for (const auto& [spec, value] : file_settings(resolved))
@@ -155,30 +132,6 @@ bool same_copy(const std::string& output, const struct stat& in) {
 
 }  // namespace
 
-std::vector<std::string> name_words(const std::string& stem) {
-  std::vector<std::string> parts;
-  std::string cur;
-  for (std::size_t i = 0; i < stem.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(stem[i]);
-    if (!std::isalnum(c)) {
-      if (!cur.empty()) parts.push_back(cur);
-      cur.clear();
-      continue;
-    }
-    // "BaseColor" -> "Base", "Color": a capital after a lower-case letter starts a word.
-    if (std::isupper(c) && i > 0 && std::islower(static_cast<unsigned char>(stem[i - 1])) &&
-        !cur.empty()) {
-      parts.push_back(cur);
-      cur.clear();
-    }
-    cur += static_cast<char>(std::tolower(c));
-  }
-  if (!cur.empty()) parts.push_back(cur);
-  std::vector<std::string> words = parts;
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i) words.push_back(parts[i] + parts[i + 1]);
-  return words;
-}
-
 namespace {
 
 // Thrown through a conversion when the batch is asked to stop.
@@ -191,7 +144,7 @@ struct Batch {
   const IngestPlan& plan;
   const LogFn& log;
   ColourSpaces spaces;  // the config, parsed once
-  int threads_per_job = 1;
+  ThreadShare share;    // the batch's cores, split between the files converting now
   TablePool pool;
   std::atomic<std::uint64_t> stale{0};
   std::mutex swept_mutex{};
@@ -223,11 +176,16 @@ Json process(const IngestItem& item, Batch& batch) {
   const std::string& dest = batch.plan.request.destination;
   try {
     if (!item.failure.empty()) throw Error(item.failure);
+    if (!item.derived_from.empty()) {  // its source is converted (same_stem.h)
+      put_path(r, "source", item.derived_from);
+      r["reason"] = utf8_escaped(item.note);
+      return finish("derived");
+    }
+    if (!item.note.empty()) r["note"] = utf8_escaped(item.note);
     check_readable_file(item.input, "input");
     struct stat st {};
     ::stat(item.input.c_str(), &st);
     Settings s = item.settings;
-    s.threads = batch.threads_per_job;
     const fs::path out(item.output);
     std::error_code ec;
     fs::create_directories(out.parent_path(), ec);
@@ -251,14 +209,13 @@ Json process(const IngestItem& item, Batch& batch) {
                        .folder_synced_by_caller());
       return finish("copied_data");
     };
-    // By its name.
-    const std::vector<std::string> words = name_words(fs::path(item.input).stem().string());
-    const WordHit data_word = word_in(words, s.ingest.data_names);
-    const WordHit light = word_in(words, s.ingest.emission_names);
-    const WordHit surface = word_in(words, s.ingest.reflectance_names);
-    const WordHit& colour = names_the_map(light, surface) ? light : surface;
-    if (data_word && names_the_map(data_word, colour))
-      return data("data name rule '" + data_word.word + "'");
+    // By the words of its name and folders (map_kind.h), before the file is read.
+    const NameVerdict name =
+        map_kind_by_name(item.input, name_words_in_force(s.data_names, s.colour_names));
+    if (name.kind == MapKind::data) {
+      if (!name.warnings.empty()) r["warnings"] = name.warnings;
+      return data("data by its " + name.reason);
+    }
     // The same request as made the output: up to date from its header alone.
     const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
     const std::string asked = request_key(prefix, item);
@@ -271,22 +228,20 @@ Json process(const IngestItem& item, Batch& batch) {
         return finish("up_to_date");
       }
     }
-    // Mode by name rules, before the data type decides.
-    std::string mode_reason;
-    if (s.mode == ModeChoice::automatic && (light || surface)) {
-      s.mode = &colour == &light ? ModeChoice::emission : ModeChoice::reflectance;
-      mode_reason = "name rule '" + colour.word + "'";
-    }
-    // By its colour space (a file rule, or the file's metadata); the settings as resolved for
-    // this file decide whether its output is up to date, as they decide what the conversion
-    // writes into the header.
+    // Decided once (docs/DESIGN.md §9): data by an ambiguous word settled by the channels or
+    // by a data colour space; else light or surface. The settings as resolved for this file
+    // decide whether its output is up to date, as they decide what the conversion writes into
+    // the header; the conversion takes this decision as it is.
     InputInterpretation in;
     {
       const ImageReader reader(item.input, static_cast<int>(s.spectral.grid.size()) + 4, true);
-      in = interpret_input(item.input, reader.spec(), s, batch.spaces);
+      in = interpret_colour(item.input, reader.spec(), s, batch.spaces);
+      if (!in.data_reason.empty()) {
+        if (!in.warnings.empty()) r["warnings"] = in.warnings;
+        return data(in.data_reason);
+      }
+      decide_light_or_surface(in, item.input, reader.spec(), s, batch.spaces);
     }
-    if (batch.spaces.is_data(in.colorspace))
-      return data("colour space '" + in.colorspace + "' is data (" + in.colorspace_reason + ")");
     const std::string key = ingest_key(prefix, resolved_settings(s, in, batch.spaces));
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided and what its conversion warned about.
@@ -298,16 +253,17 @@ Json process(const IngestItem& item, Batch& batch) {
     options.shared.pool = &batch.pool;
     options.shared.spaces = &batch.spaces;
     options.shared.interpretation = &in;  // converted as decided (and keyed) here
+    options.shared.share = &batch.share;
     options.output = WriteRules::named("the output of " + quoted_path(item.input))
                          .below(dest)
                          .folder_synced_by_caller();
     options.shared.attributes = [&](const Settings& resolved) {
-      std::map<std::string, std::string> a = {{kKeyAttribute, ingest_key(prefix, resolved)},
-                                              {kRequestKeyAttribute, asked},
-                                              {"spectralize:source", item.input}};
-      if (!mode_reason.empty()) a["spectralize:modeReason"] = mode_reason;
-      return a;
+      return std::map<std::string, std::string>{{kKeyAttribute, ingest_key(prefix, resolved)},
+                                                {kRequestKeyAttribute, asked},
+                                                {"spectralize:source", item.input}};
     };
+    const ThreadShare::Running running(batch.share);
+    r["threads"] = batch.share.now();  // at its start; files finishing give theirs later
     // Between strips: a stop request abandons the conversion (its temporary is removed).
     const ProgressFn check_stop = [&batch](std::uint64_t, std::uint64_t) {
       if (batch.stopping()) throw Interrupted();
@@ -317,7 +273,7 @@ Json process(const IngestItem& item, Batch& batch) {
     r["colorspace"] = rep.colorspace;
     r["colorspace_reason"] = rep.colorspace_reason;
     r["mode"] = std::string(to_string(rep.settings.spectral.mode));
-    r["mode_reason"] = mode_reason.empty() ? rep.mode_reason : mode_reason;
+    r["mode_reason"] = rep.mode_reason;
     r["pixels"] = rep.pixels;
     r["out_of_gamut_pixels"] = rep.out_of_gamut_pixels();
     r["invalid_pixels"] = rep.counts.invalid;
@@ -350,7 +306,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   // The planned files into the registry: every AtomicOutput of the batch is checked against all
   // of them, not only against what was written so far.
   plan.files.claim();
-  Batch batch{plan, log, ColourSpaces::load(base.config), std::max(1, total_threads / jobs), {}, {},
+  Batch batch{plan, log, ColourSpaces::load(base.config), ThreadShare(total_threads), {}, {},
               {},   {}};
   batch.stop = stop;
   // The manifest's place is checked (and its temporary file made) before any work; a killed
@@ -381,6 +337,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
       if (status == "up_to_date") ++sum.up_to_date;
       if (status == "skipped_data") ++sum.skipped_data;
       if (status == "copied_data") ++sum.copied_data;
+      if (status == "derived") ++sum.derived;
       if (status == "failed") ++sum.failed;
       if (progress)
         progress(++done, plan.items.size(),

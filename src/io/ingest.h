@@ -41,6 +41,8 @@ struct IngestItem {
   Settings settings;            // the batch's, with a list line's overrides
   std::string failure;          // set at planning (e.g. two inputs for one output)
   std::string copy_failure;     // set at planning: why it cannot be copied, should it be data
+  std::string derived_from;     // made from this input of the batch (same_stem.h): not converted
+  std::string note;             // how planning named it (same-stem siblings)
 };
 
 /// What the walk left out or could not enter, by name: a hidden file, a non-image, a link to a
@@ -76,7 +78,8 @@ IngestPlan plan_ingest(const IngestRequest& request);
 
 /// Counts of a batch, for the summary and the manifest's last record.
 struct IngestSummary {
-  std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, failed = 0;
+  std::uint64_t converted = 0, up_to_date = 0, skipped_data = 0, copied_data = 0, derived = 0,
+                failed = 0;
   std::uint64_t pixels = 0, stale_temporaries_removed = 0;
   std::uint64_t left_out = 0, not_entered = 0;  // left out of the walk; of them, failures
   std::map<std::string, std::uint64_t> left_out_by_reason;  // "not an image": 3, ...
@@ -89,7 +92,7 @@ struct IngestSummary {
   std::vector<std::string> failures;  // each failed file's manifest record (JSON), in order
   /// Files handled, all statuses. Cost: O(1).
   std::uint64_t files() const {
-    return converted + up_to_date + skipped_data + copied_data + failed;
+    return converted + up_to_date + skipped_data + copied_data + derived + failed;
   }
 };
 
@@ -118,10 +121,5 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
 /// Throws FileError naming missing, foreign, stale, malformed or incomplete parts. Cost:
 /// O(records).
 IngestSummary merge_ingest_manifests(const std::string& destination);
-
-/// The words of a file name: split at non-alphanumerics and lower-to-upper case changes,
-/// lower-cased, with each pair joined too ("T_BaseColor" -> t, base, color, tbase, basecolor).
-/// Cost: O(length).
-std::vector<std::string> name_words(const std::string& stem);
 
 }  // namespace spectralize

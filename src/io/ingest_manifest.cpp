@@ -36,6 +36,7 @@ Json counts_json(const IngestSummary& s) {
   j["up_to_date"] = s.up_to_date;
   j["skipped_data"] = s.skipped_data;
   j["copied_data"] = s.copied_data;
+  j["derived"] = s.derived;
   j["failed"] = s.failed;
   j["pixels"] = s.pixels;
   j["stale_temporaries_removed"] = s.stale_temporaries_removed;
@@ -57,6 +58,7 @@ void count(IngestSummary& s, const std::string& status, std::uint64_t pixels) {
   if (status == "up_to_date") ++s.up_to_date;
   if (status == "skipped_data") ++s.skipped_data;
   if (status == "copied_data") ++s.copied_data;
+  if (status == "derived") ++s.derived;
   if (status == "failed") ++s.failed;
 }
 

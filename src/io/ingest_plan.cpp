@@ -21,6 +21,7 @@
 #include "io/colour_space.h"
 #include "io/ingest.h"
 #include "io/safe_output.h"
+#include "io/same_stem.h"
 #include "io/shard.h"
 
 namespace fs = std::filesystem;
@@ -449,7 +450,7 @@ IngestPlan plan_ingest(const IngestRequest& request) {
       if (!resolved.empty()) files.read(resolved, "a file of the OCIO config");
   }
 
-  // Name the outputs; two inputs for one output is a failure of both, never a silent overwrite.
+  // Name the outputs.
   std::map<std::string, std::vector<IngestItem>> by_output;
   for (const Found& f : found) {
     IngestItem item;
@@ -467,9 +468,31 @@ IngestPlan plan_ingest(const IngestRequest& request) {
       item.copy = (fs::path(item.output).parent_path() / fs::path(f.input).filename()).string();
     by_output[item.relative].push_back(std::move(item));
   }
-  std::vector<IngestItem> all;
+  // Same-stem siblings (a.png, a.tif, a.tx): one asset when derived, else each its own name
+  // (same_stem.h); two inputs still naming one output (two sources mirrored into one tree)
+  // are a failure of both, never a silent overwrite.
+  std::map<std::string, std::vector<IngestItem>> renamed;
   for (auto& [rel, items] : by_output) {
     if (items.size() > 1) {
+      std::vector<std::string> inputs;
+      for (const auto& i : items) inputs.push_back(i.input);
+      const std::vector<SameStemDecision> d = decide_same_stem(inputs, rel);
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        IngestItem& i = items[k];
+        i.relative = d[k].relative;
+        i.output = (fs::path(dest) / d[k].relative).string();
+        i.derived_from = d[k].derived_from;
+        i.note = d[k].note;
+        if (!i.derived_from.empty()) i.copy.clear();  // nothing of it is written
+      }
+    }
+    for (auto& i : items) renamed[i.relative].push_back(std::move(i));
+  }
+  std::vector<IngestItem> all;
+  for (auto& [rel, items] : renamed) {
+    std::size_t writers = 0;
+    for (const auto& i : items) writers += i.derived_from.empty();
+    if (writers > 1) {
       std::string names;
       for (const auto& i : items) names += (names.empty() ? "" : ", ") + quoted_path(i.input);
       for (auto& i : items)
@@ -481,9 +504,10 @@ IngestPlan plan_ingest(const IngestRequest& request) {
   }
   // Every file the batch writes, against every file it reads and each other, in one order for
   // every shard: outputs first, then the copies of data files (an output wins over a copy),
-  // then the manifest (which refuses the batch).
+  // then the manifest (which refuses the batch). A derived input writes nothing: its source's
+  // output is its asset.
   for (IngestItem& i : all)
-    if (i.failure.empty()) {
+    if (i.failure.empty() && i.derived_from.empty()) {
       const std::string what = "the output of " + quoted_path(i.input);
       i.failure = files.write(i.output, what, WriteRules::named(what).below(dest));
     }

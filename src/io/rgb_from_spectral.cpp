@@ -140,6 +140,9 @@ RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, f
                                    OIIO::TypeDesc type) const {
   const bool integer =
       type.basetype == OIIO::TypeDesc::UINT8 || type.basetype == OIIO::TypeDesc::UINT16;
+  // Values within half a code value of 0..1 round to the same codes as clamped ones: nothing
+  // of them is lost, so only values beyond that are counted as clipped.
+  const float half_code = type.basetype == OIIO::TypeDesc::UINT8 ? 0.5f / 255.0f : 0.5f / 65535.0f;
   const bool half = type.basetype == OIIO::TypeDesc::HALF;
   RgbCounts counts;
   const int out_nch = output_channels();
@@ -177,7 +180,7 @@ RgbCounts RgbFromSpectral::convert(const float* in, int in_nch, std::size_t n, f
       // NaN only comes from a conversion that overflowed (inf - inf): out of range too.
       if (std::isnan(v)) v = 0, over = true;
       if (integer && !(v >= 0 && v <= 1)) {
-        clip = true;
+        clip = clip || !(v >= -half_code && v <= 1 + half_code);
         v = std::clamp(v, 0.0f, 1.0f);
       } else if (std::abs(v) > limit) {
         over = true;

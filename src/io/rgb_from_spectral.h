@@ -45,7 +45,8 @@ struct RgbCounts {
   std::uint64_t invalid = 0;         // pixels with NaN or infinite samples (taken as 0)
   std::uint64_t half_overflow = 0;   // half output: pixels with RGB beyond 65504 (clamped)
   std::uint64_t float_overflow = 0;  // float output: pixels with RGB beyond float's range
-  std::uint64_t clipped = 0;         // integer output: pixels with a value outside 0..1 (clipped)
+  std::uint64_t clipped = 0;         // integer output: pixels with a value more than half a code
+                                     // value outside 0..1 (clipped: a code lost)
 };
 
 class RgbFromSpectral {

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <tuple>
 
 #include "core/colorimetry.h"
 #include "core/error.h"
 #include "io/output_formats.h"
+#include "io/map_kind.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
@@ -111,9 +111,9 @@ std::vector<SettingSpec> make_schema() {
                [](const Settings& v) { return !v.colorspace.empty(); },
                "from the file rules, the file, then the config's roles"});
   s.push_back({"mode", "--mode", "MODE", "mode",
-               "emission (lights, HDR), reflectance (surfaces, 0 <= rho <= 1) or auto (float "
-               "data and --color values are light, integer data a texture; a table is for "
-               "textures)",
+               "emission (lights, HDR), reflectance (surfaces, 0 <= rho <= 1) or auto (a light "
+               "or surface word of the name or its folders, else the image: values brighter than "
+               "white are light; --color values are light; a table is for textures)",
                kSpectrumCommands, true, true,
                [](Settings& v, std::string_view t) {
                  const std::string_view c = choice(t, {"auto", "emission", "reflectance"});
@@ -274,33 +274,24 @@ std::vector<SettingSpec> make_schema() {
                },
                [](const Settings& v) { return v.ingest.name_pattern; }, nullptr});
   s.back().shapes_file = false;  // where the outputs go
-  for (const auto& [key, flag, what] :
-       {std::tuple{"data_names", "--data-names", "non-colour data, never spectralized"},
-        std::tuple{"emission_names", "--emission-names", "lights (emission)"},
-        std::tuple{"reflectance_names", "--reflectance-names", "surfaces (reflectance)"}}) {
-    const std::string k = key;
-    s.push_back({key, flag, "WORDS", "",
-                 std::string("Comma-separated words of file names that mark ") + what +
-                     " (split at _ - . and case changes, case-insensitive)",
-                 kIngest, false, false,
-                 [k](Settings& v, std::string_view t) {
-                   std::string words(t);
-                   for (char& c : words)
-                     c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-                   if (words.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789,") !=
-                       std::string::npos)
-                     throw Error(quoted(t) + " must be comma-separated words (letters, digits)");
-                   (k == "data_names"       ? v.ingest.data_names
-                    : k == "emission_names" ? v.ingest.emission_names
-                                            : v.ingest.reflectance_names) = words;
-                 },
-                 [k](const Settings& v) {
-                   return k == "data_names"       ? v.ingest.data_names
-                          : k == "emission_names" ? v.ingest.emission_names
-                                                  : v.ingest.reflectance_names;
-                 },
-                 nullptr});
-    s.back().shapes_file = false;  // decisions, recorded by the mode they resolve to
+  for (const bool colour : {false, true}) {
+    s.push_back(
+        {colour ? "colour_names" : "data_names", colour ? "--colour-names" : "--data-names",
+         "WORDS", "",
+         colour ? "Edit the name table's colour words (WORD or WORD:emission, a surface's "
+                  "colour or a light's): a list replaces them, +WORD,-WORD edits them"
+                : "Edit the name table's words of non-colour data (never spectralized by "
+                  "ingest): a list replaces them, +WORD,-WORD edits them",
+         kImage | kIngest, false, false,
+         [colour](Settings& v, std::string_view t) {
+           (colour ? v.colour_names : v.data_names) = check_name_edit(t, colour);
+         },
+         [colour](const Settings& v) { return colour ? v.colour_names : v.data_names; },
+         [colour](const Settings& v) { return !(colour ? v.colour_names : v.data_names).empty(); },
+         "the table in the README"});
+    // Decisions: recorded by what they resolve to for each file (its mode, or data skipped),
+    // so a changed table redoes only the files it decides otherwise.
+    s.back().shapes_file = false;
   }
   s.push_back({"data", "--data", "ACTION", "",
                "Non-colour files (data colour spaces, data names): skip or copy them unchanged",

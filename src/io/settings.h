@@ -38,14 +38,6 @@ enum class PlotScale { linear, log, normalized };
 /// What `ingest` does per file beyond the single-file settings (io/ingest.h).
 struct IngestSettings {
   std::string name_pattern = "{dir}/{stem}.exr";  // output path under the destination
-  // Words of a file name (split at _ - . and case changes) that mark it as non-colour data, as
-  // a light (emission) or as a surface (reflectance); compared case-insensitively.
-  std::string data_names =
-      "normal,nrm,nor,bump,roughness,rough,rgh,gloss,glossiness,metallic,metalness,metal,"
-      "displacement,disp,height,mask,ao,occlusion,ambientocclusion,cavity,opacity,id,matid";
-  std::string emission_names =
-      "hdri,hdr,env,envmap,environment,sky,skydome,ibl,light,emission,emissive";
-  std::string reflectance_names = "basecolor,albedo,diffuse,diff,color,colour,col";
   bool copy_data = false;  // copy non-colour files unchanged (else skip them)
   int jobs = 0;            // files converted at once (0: from the cores)
 };
@@ -69,6 +61,9 @@ struct Settings {
   std::string cache_dir;  // "" : no persistent node cache
   int threads = 0;        // 0: all cores
   std::string config;     // OCIO config file ("" : $OCIO, else the shipped one)
+  // Edits of the name table (io/map_kind.h), canonical: "" (the table), a replacing list
+  // ("normal,rough") or signed words ("+msk,-metal"; colour words may end in ":emission").
+  std::string data_names, colour_names;
   IngestSettings ingest;
 };
 

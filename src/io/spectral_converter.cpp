@@ -179,7 +179,7 @@ void SpectralConverter::convert(const float* in, std::size_t n, float* out) {
         std::lock_guard<std::mutex> lock(mutex_);
         total_.add(c);
       },
-      OIIO::paropt(s_.threads));
+      OIIO::paropt(s_.share ? s_.share->now() : s_.threads));
 }
 
 }  // namespace spectralize

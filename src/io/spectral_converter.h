@@ -14,6 +14,7 @@
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
 #include "io/spectral_image_layout.h"
+#include "io/thread_share.h"
 
 namespace spectralize {
 
@@ -47,6 +48,7 @@ class SpectralConverter {
     const SpectralImageLayout& layout;
     bool half = true;
     int threads = 0;
+    const ThreadShare* share = nullptr;  // a batch's cores: its share now, instead of threads
   };
 
   /// Keeps the setup (the spectralizer, table and layout must outlive the converter). Cost: O(N).

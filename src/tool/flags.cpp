@@ -29,6 +29,12 @@ ColourInputs colour_inputs(const Options& opt) {
     const std::string space = opt.settings.colorspace.empty()
                                   ? default_colour_space(spaces, true).first
                                   : opt.settings.colorspace;
+    // As for an image (input_interpretation.cpp): a data space's values are not a colour.
+    if (spaces.is_data(spaces.resolve(space)))
+      fmt::print(stderr,
+                 "spectralize WARNING: colour space '{}' is marked as data (not colour) in the "
+                 "OCIO config; the values are taken as CIE XYZ\n",
+                 spaces.resolve(space));
     return spaces.to_xyz(space);
   });
   const Mat3 frame = table_frame(spaces, to_xyz.source());

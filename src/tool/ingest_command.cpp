@@ -26,10 +26,10 @@ void print_summary(const IngestSummary& s, bool merged) {
     left += fmt::format("{}{} {}", left.empty() ? "" : ", ", n, kind);
   fmt::print(stderr,
              "spectralize ingest: {} files{}: {} converted, {} up to date, {} data skipped, {} "
-             "data copied, {} failed; {} left out{}{}; {:.1f} Mpixel in {:.1f} s ({:.2f} "
-             "Mpixel/s, {:.1f} files/s); manifest '{}'\n",
+             "data copied, {} derived from another, {} failed; {} left out{}{}; {:.1f} Mpixel in "
+             "{:.1f} s ({:.2f} Mpixel/s, {:.1f} files/s); manifest '{}'\n",
              s.files(), merged ? " (all shards)" : "", s.converted, s.up_to_date, s.skipped_data,
-             s.copied_data, s.failed, s.left_out, left.empty() ? "" : " (" + left + ")",
+             s.copied_data, s.derived, s.failed, s.left_out, left.empty() ? "" : " (" + left + ")",
              s.not_entered ? fmt::format(", {} not entered", s.not_entered) : "", mpx, s.seconds,
              s.seconds > 0 ? mpx / s.seconds : 0.0,
              s.seconds > 0 ? static_cast<double>(s.files()) / s.seconds : 0.0, s.manifest);

@@ -162,6 +162,9 @@ TEST(CliColor, ColourSpacesAndAliasesGoThroughOcio) {
                          "Raw", "lin_srgb", "lin_rec2020"}) {
     r = run(std::string("--color 0.3,0.4,0.2 --colorspace ") + cs);
     EXPECT_EQ(r.exit_code, 0) << cs << ": " << r.err;
+    // A data space's values are not a colour: said, as for an image, only for Raw.
+    EXPECT_EQ(r.err.find("marked as data") != std::string::npos, std::string(cs) == "Raw")
+        << cs << ": " << r.err;
   }
 }
 

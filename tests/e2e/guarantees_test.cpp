@@ -231,9 +231,9 @@ TEST(Guarantees, UpToDateMeansTheSameFileWouldBeWritten) {
       {"threads", "--threads 1", none},
       {"jobs", "--jobs 1", none},
       {"data", "--data copy", none},
-      {"data_names", "--data-names zzz", none},
-      {"emission_names", "--emission-names zzz", none},
-      {"reflectance_names", "--reflectance-names light", {"light.exr"}},  // its mode changes
+      {"data_names", "--data-names +zzz", none},
+      {"colour_names", "--colour-names +zzz:emission", none},
+      {"colour_names", "--colour-names +surface:emission", {"surface.png"}},  // its mode changes
       {"name_pattern", "", none},              // moves the outputs: not a rerun of the same files
       {"config", "--config same.ocio", none},  // a relative path
       {"config", "--config " + (s / "same.ocio"), none},

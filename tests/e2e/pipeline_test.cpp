@@ -286,6 +286,83 @@ TEST(Pipeline, ToRgbWritesAnyFormatDisplayAndAsLit) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
 }
 
+// Truth: every tag describes the data as written. A display's view is display-referred: under
+// the ACES config "sRGB - Display" / "ACES 1.0 - SDR Video" is tagged srgb_rec709_display (read
+// back with OIIO), and a "sRGB - Texture" PNG reads back as that very space, not as another of
+// the same interop ID.
+TEST(Pipeline, TagsSayDisplayReferredAndReadBackAsTheExactSpace) {
+  Scratch s;
+  const std::string env = "OCIO=" + aces_config();
+  ASSERT_EQ(run(kImages + "colorchecker_srgb8.png -o " + (s / "cc.exr") + " -q", env).exit_code, 0);
+  auto r = run("--to-rgb " + (s / "cc.exr") + " -o " + (s / "d.png") +
+                   " --display \"sRGB - Display\" --view \"ACES 1.0 - SDR Video\" -q",
+               env);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto in = OIIO::ImageInput::open(s / "d.png");
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().get_string_attribute("colorInteropID"), "srgb_rec709_display");
+  EXPECT_EQ(in->spec().get_string_attribute("oiio:ColorSpace"), "sRGB - Display");
+  in.reset();
+  r = run(
+      "--to-rgb " + (s / "cc.exr") + " -o " + (s / "t.png") + " --colorspace \"sRGB - Texture\" -q",
+      env);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto& [file, space] : {std::pair<std::string, std::string>{"t.png", "sRGB - Texture"},
+                                    {"d.png", "sRGB - Display"}}) {
+    ASSERT_EQ(run((s / file) + " -o " + (s / (file + ".exr")) + " --report " +
+                      (s / (file + ".json")) + " -q",
+                  env)
+                  .exit_code,
+              0);
+    std::ifstream f(s / (file + ".json"));
+    EXPECT_EQ(Json::parse(f)["colorspace"], space) << file;
+  }
+}
+
+// Truth: an integer --to-rgb counts a pixel as clipped only when a value lies more than half a
+// code value outside 0..1 (a code is lost). The oracle: the same integration written as float
+// in the same encoding, counted by the test. A faithful round trip (the 16-bit chart's values a
+// hair below 0) loses nothing; a sunset's sky loses codes in exactly the pixels the float file
+// says.
+TEST(Pipeline, ToRgbCountsOnlyClippingThatLosesCodes) {
+  Scratch s;
+  auto count = [](const std::string& path, double margin) {
+    const e2e::Exr e = e2e::read_exr(path);
+    std::uint64_t n = 0;
+    for (int y = 0; y < e.height; ++y)
+      for (int x = 0; x < e.width; ++x) {
+        bool out = false;
+        for (int c = 0; c < 3; ++c)
+          out = out || e.at(x, y, c) < -margin || e.at(x, y, c) > 1 + margin;
+        n += out;
+      }
+    return n;
+  };
+  for (const auto& [image, source] :
+       {std::pair<std::string, std::string>{"cc", "colorchecker_srgb16.png"},
+        {"sun", "hdri_sunset_256x128.exr"}}) {
+    ASSERT_EQ(run(kImages + source + " -o " + (s / (image + ".exr")) + " -q").exit_code, 0);
+    auto r = run("--to-rgb " + (s / (image + ".exr")) + " -o " + (s / (image + ".png")) +
+                 " --report " + (s / (image + ".json")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_EQ(run("--to-rgb " + (s / (image + ".exr")) + " -o " + (s / (image + "_f.exr")) +
+                  " --colorspace \"sRGB - Texture\" --format float -q")
+                  .exit_code,
+              0);
+    std::ifstream f(s / (image + ".json"));
+    const std::uint64_t clipped = Json::parse(f)["clipped_pixels"].get<std::uint64_t>();
+    const std::uint64_t lost = count(s / (image + "_f.exr"), 0.5 / 255);
+    EXPECT_EQ(clipped, lost) << image;
+    EXPECT_EQ(r.err.find("clipped") == std::string::npos, lost == 0) << r.err;
+    if (image == "cc") {
+      EXPECT_GT(count(s / (image + "_f.exr"), 0), 0u);  // outside 0..1, by less than a code
+      EXPECT_EQ(lost, 0u);
+    } else {
+      EXPECT_GT(lost, 1000u);
+    }
+  }
+}
+
 // --- The OIIO tools' conventions ---
 
 TEST(Pipeline, CommandLineSpeaksLikeTheOiioTools) {

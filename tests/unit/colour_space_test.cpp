@@ -1,0 +1,58 @@
+// Chromaticities matched up to chromatic adaptation, and interop IDs that say whether a space is
+// scene- or display-referred (io/colour_space.h). Oracles: the sRGB ICC profile's published
+// D50-adapted colorants, the standards' primaries, and the ACES CG config's own definitions.
+
+#include "io/colour_space.h"
+
+#include <gtest/gtest.h>
+
+namespace spectralize {
+namespace {
+
+const std::string kAcesConfig =
+    SPECTRALIZE_SOURCE_DIR "/tests/ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio";
+
+TEST(ColourSpace, ChromaticitiesMatchUpToTheAdaptationOfTheirWhite) {
+  // Rec.709 primaries adapted to a D50 white, as an ICC sRGB profile's colorants state them
+  // (rXYZ 0.4361 0.2225 0.0139, gXYZ 0.3851 0.7169 0.0971, bXYZ 0.1431 0.0606 0.7141) and as
+  // Photoshop writes EXR chromaticities.
+  const float d50_709[8] = {0.6484f, 0.3309f, 0.3212f, 0.5978f, 0.1559f, 0.0660f, 0.3457f, 0.3585f};
+  const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+  const auto adapted = adapt_chromaticities_to_d65(d50_709);
+  EXPECT_LT(chromaticity_difference(adapted.data(), rec709), 1e-4);
+  EXPECT_EQ(interop_id_of_chromaticities(d50_709), "lin_rec709_scene");
+  // Rec.709's own primaries with a D50 white are another space (0.02 away once adapted).
+  const float unadapted[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3457f, 0.3585f};
+  EXPECT_GT(chromaticity_difference(adapt_chromaticities_to_d65(unadapted).data(), rec709), 0.01);
+  EXPECT_EQ(interop_id_of_chromaticities(unadapted), "");
+  // D65 input is unchanged; AP1 with the ACES white is ACEScg; Rec.2020 is not AP1.
+  EXPECT_LT(chromaticity_difference(adapt_chromaticities_to_d65(rec709).data(), rec709), 1e-6);
+  const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+  EXPECT_EQ(interop_id_of_chromaticities(ap1), "lin_ap1_scene");
+  const float rec2020[8] = {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
+  EXPECT_EQ(interop_id_of_chromaticities(rec2020), "lin_rec2020_scene");
+  // The config sees ACEScg's primaries as the same adaptation gives them.
+  const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
+  const auto p = aces.primaries_d65("ACEScg");
+  ASSERT_TRUE(p);
+  EXPECT_LT(chromaticity_difference(p->data(), adapt_chromaticities_to_d65(ap1).data()),
+            kChromaticityTolerance);
+}
+
+TEST(ColourSpace, InteropIdsSayDisplayReferred) {
+  const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
+  EXPECT_TRUE(aces.is_display_referred("sRGB - Display"));
+  EXPECT_FALSE(aces.is_display_referred("sRGB - Texture"));
+  EXPECT_EQ(aces.interop_id("sRGB - Display"), "srgb_rec709_display");
+  EXPECT_EQ(aces.interop_id("Rec.1886 Rec.709 - Display"), "g24_rec709_display");
+  EXPECT_EQ(aces.interop_id("sRGB - Texture"), "srgb_rec709_scene");
+  EXPECT_EQ(aces.interop_id("ACEScg"), "lin_ap1_scene");
+  EXPECT_EQ(aces.interop_id("Raw"), "data");
+  const ColourSpaces shipped = ColourSpaces::load();
+  EXPECT_EQ(shipped.interop_id("sRGB - Texture"), "srgb_rec709_scene");
+  EXPECT_EQ(shipped.interop_id("Display P3 - Texture"), "srgb_p3d65_scene");
+  EXPECT_EQ(shipped.interop_id("ACEScct"), "");  // a log curve: no ID a measurement can tell
+}
+
+}  // namespace
+}  // namespace spectralize
