@@ -6,8 +6,8 @@
 
 #include "core/colorimetry.h"
 #include "core/error.h"
-#include "io/output_formats.h"
 #include "io/map_kind.h"
+#include "io/output_formats.h"
 #include "io/safe_output.h"
 
 namespace spectralize {
