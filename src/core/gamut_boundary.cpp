@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <unordered_map>
 
@@ -105,7 +106,9 @@ SolidBoundary::SolidBoundary(std::span<const Xyz> columns, const Mat3& target_fr
   };
   struct KeyHash {
     std::size_t operator()(const Key& k) const {
-      return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+      // In unsigned arithmetic: the products wrap by definition (signed overflow is undefined).
+      const auto u = [](long long v) { return static_cast<std::uint64_t>(v); };
+      return static_cast<std::size_t>(u(k.x) * 73856093u ^ u(k.y) * 19349663u ^ u(k.z) * 83492791u);
     }
   };
   std::unordered_map<Key, std::size_t, KeyHash> seen;
