@@ -148,6 +148,11 @@ TEST(RecipeChain, LoopsThroughAnyNameAreLoops) {
 // stack, the chain overflows the stack; the handler runs on its alternate stack, removes the
 // temporaries (the batch's manifest, a --report) and the process dies of SIGSEGV (exit 139).
 TEST(RecipeChain, AStackOverflowStillRemovesTheTemporaries) {
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer catches the overflow with its own handler and exits 1: the binary under
+  // test is not the one users run, so the signal's path is only checked in normal builds.
+  GTEST_SKIP() << "AddressSanitizer handles stack overflows itself";
+#endif
   Scratch s;
   const std::string first = make_chain(s, 2000);
   const std::string crash = "ulimit -s 512; SPECTRALIZE_TEST_RECIPE_DEPTH=100000 ";
