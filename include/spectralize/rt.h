@@ -34,7 +34,7 @@ typedef struct spz_table spz_table;
 /* A colour's spectrum: the blend of up to four of the table's spectra. A small value; valid
  * while its table is loaded. */
 typedef struct spz_spectrum {
-  const void *table;  /* the table's data (internal) */
+  const void* table;  /* the table's data (internal) */
   uint32_t vertex[4]; /* spectrum slots, or (high bit) boundary spectra of the table */
   float weight[4];    /* barycentric weights, sum 1 */
   float scale;        /* lights: the colour's X+Y+Z (any brightness); 1 for reflectances;
@@ -44,45 +44,45 @@ typedef struct spz_spectrum {
 
 /* spz_fetch results. */
 enum {
-  SPZ_EXACT = 0,     /* the colour's own exact spectrum */
-  SPZ_MAPPED = 1,    /* outside the gamut: mapped in as the spectralize CLI does, then exact */
-  SPZ_INVALID = -1,  /* NaN or infinite: the zero spectrum */
-  SPZ_NEGATIVE = -2  /* negative luminance (no light or surface has it): the zero spectrum */
+  SPZ_EXACT = 0,    /* the colour's own exact spectrum */
+  SPZ_MAPPED = 1,   /* outside the gamut: mapped in as the spectralize CLI does, then exact */
+  SPZ_INVALID = -1, /* NaN or infinite: the zero spectrum */
+  SPZ_NEGATIVE = -2 /* negative luminance (no light or surface has it): the zero spectrum */
 };
 
 /* Loads and validates a table file (every size, offset, index, value and the checksum).
  * Returns NULL and a message naming the file and the reason in `error` (if not NULL) for
  * anything unusable. Cost: reading the file, O(file size). */
-spz_table *spz_table_load(const char *path, char *error, size_t error_size);
+spz_table* spz_table_load(const char* path, char* error, size_t error_size);
 
 /* Frees a table (NULL is allowed). */
-void spz_table_free(spz_table *table);
+void spz_table_free(spz_table* table);
 
 /* The spectrum of a linear RGB colour of the table's colour space. Cost: O(1): a cell lookup and
  * four weights; cells on the gamut's boundary test a few simplices; a colour outside the gamut
  * is mapped first (O(facets), a few thousand planes). */
-int spz_fetch(const spz_table *table, const float rgb[3], spz_spectrum *out);
+int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out);
 
 /* The spectrum's value at lambda_nm (0 outside the table's wavelengths). Cost: O(1). */
-float spz_eval(const spz_spectrum *s, float lambda_nm);
+float spz_eval(const spz_spectrum* s, float lambda_nm);
 
 /* The values at four wavelengths (e.g. a path's hero wavelengths). Cost: O(1). */
-void spz_eval4(const spz_spectrum *s, const float lambda_nm[4], float out[4]);
+void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]);
 
 /* All samples of the spectrum, spz_table_bands() floats into out. Cost: O(bands). */
-void spz_samples(const spz_spectrum *s, float *out);
+void spz_samples(const spz_spectrum* s, float* out);
 
 /* Samples per spectrum, and their wavelengths: start + i * step nm. Cost: O(1). */
-size_t spz_table_bands(const spz_table *table);
-void spz_table_wavelengths(const spz_table *table, float *start_nm, float *step_nm);
+size_t spz_table_bands(const spz_table* table);
+void spz_table_wavelengths(const spz_table* table, float* start_nm, float* step_nm);
 
 /* 0 emission (lights), 1 reflectance (surfaces). Cost: O(1). */
-int spz_table_mode(const spz_table *table);
+int spz_table_mode(const spz_table* table);
 
 /* The OCIO colour space the table's RGB belongs to, and its RGB -> CIE XYZ (D65) matrix
  * (row-major). Cost: O(1). */
-const char *spz_table_colorspace(const spz_table *table);
-void spz_table_rgb_to_xyz(const spz_table *table, double matrix[9]);
+const char* spz_table_colorspace(const spz_table* table);
+void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]);
 
 #ifdef __cplusplus
 } /* extern "C" */

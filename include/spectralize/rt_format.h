@@ -23,8 +23,8 @@
 #define SPZ_BYTE_ORDER_MARK 0x01020304u /* reads 04 03 02 01 in a little-endian file */
 #define SPZ_SECTION_ALIGNMENT 64u
 #define SPZ_HEADER_SIZE 1024u
-#define SPZ_OUTSIDE 0xFFFFFFFFu         /* a cell outside the gamut; a node without spectrum */
-#define SPZ_BOUNDARY_BIT 0x80000000u    /* a boundary cell (cells), a boundary vertex (refs) */
+#define SPZ_OUTSIDE 0xFFFFFFFFu      /* a cell outside the gamut; a node without spectrum */
+#define SPZ_BOUNDARY_BIT 0x80000000u /* a boundary cell (cells), a boundary vertex (refs) */
 
 enum spz_file_mode { SPZ_MODE_EMISSION = 0, SPZ_MODE_REFLECTANCE = 1 };
 
@@ -47,9 +47,9 @@ enum spz_section {
   SPZ_SECTION_BOUNDARY_MASKS = 11,     /* uint32[mask_words per boundary vertex]: samples at 1 */
   SPZ_SECTION_BOUNDARY_PICKS = 12,     /* uint32 per boundary vertex: i | j << 16 */
   SPZ_SECTION_BOUNDARY_VALUES = 13,    /* float[2 per boundary vertex]: the values at i and j */
-  SPZ_SECTION_LOCUS_PLANES = 14,  /* double[4 per plane]: n, d of the spectral locus (target
-                                     XYZ, n . t <= d inside) */
-  SPZ_SECTION_SOLID_PLANES = 15,  /* double[4 per plane]: the reflectance solid (reflectance) */
+  SPZ_SECTION_LOCUS_PLANES = 14,       /* double[4 per plane]: n, d of the spectral locus (target
+                                          XYZ, n . t <= d inside) */
+  SPZ_SECTION_SOLID_PLANES = 15, /* double[4 per plane]: the reflectance solid (reflectance) */
   SPZ_SECTION_COUNT = 16
 };
 
@@ -59,33 +59,33 @@ typedef struct spz_section_entry {
 } spz_section_entry;
 
 typedef struct spz_file_header {
-  char magic[8];           /*    0 "SPZTABLE" */
-  uint32_t version;        /*    8 SPZ_FORMAT_VERSION */
-  uint32_t byte_order;     /*   12 SPZ_BYTE_ORDER_MARK */
-  uint64_t file_size;      /*   16 bytes */
-  uint64_t checksum;       /*   24 FNV-1a 64 of the file with this field zero */
-  uint32_t header_size;    /*   32 SPZ_HEADER_SIZE */
-  uint32_t mode;           /*   36 spz_file_mode */
-  uint32_t bands;          /*   40 samples per spectrum, N */
-  uint32_t mask_words;     /*   44 (N + 31) / 32 */
-  double lambda_start;     /*   48 nm of sample 0 */
-  double lambda_step;      /*   56 nm between samples */
-  double rgb_to_xyz[9];    /*   64 the colour space's RGB -> CIE XYZ (D65), row-major */
-  double rgb_to_target[9]; /*  136 RGB -> the XYZ the spectra reproduce (white balanced) */
-  double target_to_rgb[9]; /*  208 its inverse */
-  double locus_white[3];   /*  280 gamut mapping: toward this white (x Y) outside the locus */
-  double solid_white[3];   /*  304 reflectance: the white of rho == 1 (Y = 1) */
-  double locus_margin;     /*  328 mapped colours stop this fraction short of the locus */
-  double solid_margin;     /*  336 ... of the solid */
-  double snap_tolerance;   /*  344 a mapping move below this (relative) is rounding */
-  double locus_scale;      /*  352 the gamuts' magnitudes (containment is tested to 1e-12 of */
-  double solid_scale;      /*  360 |colour|, docs/DESIGN.md §5) */
-  uint32_t nodes[3];       /*  368 nodes per axis (emission: nodes[2] == 1) */
-  uint32_t lut_size[3];    /*  380 bins of each axis' interval lookup */
-  float lut_origin[3];     /*  392 position of bin 0 */
-  float lut_inverse_bin[3];/*  404 bins per unit */
-  uint32_t section_count;  /*  416 SPZ_SECTION_COUNT */
-  uint32_t resolution[3];  /*  420 builder's node spacing: steps, coarse steps, chroma steps */
+  char magic[8];            /*    0 "SPZTABLE" */
+  uint32_t version;         /*    8 SPZ_FORMAT_VERSION */
+  uint32_t byte_order;      /*   12 SPZ_BYTE_ORDER_MARK */
+  uint64_t file_size;       /*   16 bytes */
+  uint64_t checksum;        /*   24 FNV-1a 64 of the file with this field zero */
+  uint32_t header_size;     /*   32 SPZ_HEADER_SIZE */
+  uint32_t mode;            /*   36 spz_file_mode */
+  uint32_t bands;           /*   40 samples per spectrum, N */
+  uint32_t mask_words;      /*   44 (N + 31) / 32 */
+  double lambda_start;      /*   48 nm of sample 0 */
+  double lambda_step;       /*   56 nm between samples */
+  double rgb_to_xyz[9];     /*   64 the colour space's RGB -> CIE XYZ (D65), row-major */
+  double rgb_to_target[9];  /*  136 RGB -> the XYZ the spectra reproduce (white balanced) */
+  double target_to_rgb[9];  /*  208 its inverse */
+  double locus_white[3];    /*  280 gamut mapping: toward this white (x Y) outside the locus */
+  double solid_white[3];    /*  304 reflectance: the white of rho == 1 (Y = 1) */
+  double locus_margin;      /*  328 mapped colours stop this fraction short of the locus */
+  double solid_margin;      /*  336 ... of the solid */
+  double snap_tolerance;    /*  344 a mapping move below this (relative) is rounding */
+  double locus_scale;       /*  352 the gamuts' magnitudes (containment is tested to 1e-12 of */
+  double solid_scale;       /*  360 |colour|, docs/DESIGN.md §5) */
+  uint32_t nodes[3];        /*  368 nodes per axis (emission: nodes[2] == 1) */
+  uint32_t lut_size[3];     /*  380 bins of each axis' interval lookup */
+  float lut_origin[3];      /*  392 position of bin 0 */
+  float lut_inverse_bin[3]; /*  404 bins per unit */
+  uint32_t section_count;   /*  416 SPZ_SECTION_COUNT */
+  uint32_t resolution[3];   /*  420 builder's node spacing: steps, coarse steps, chroma steps */
   spz_section_entry sections[SPZ_SECTION_COUNT]; /* 432 */
   char colorspace[128];    /*  688 the OCIO colour space's name, NUL-terminated */
   char interop_id[32];     /*  816 its colour interop ID, or "" */

@@ -346,12 +346,12 @@ TEST(SmoothModel, SolverStopsOnAnInfeasibleTarget) {
   }
 }
 
-// --- The metamerism numbers ---
+// --- Metamerism numbers ---
 
 TEST(SmoothModel, ColorCheckerUnderIlluminantA) {
   // The 24 measured ColorChecker N Ohta reflectances, taken under D65 and reconstructed, then
   // compared with the measurement under illuminant A: median CIEDE2000 <= 1.0 and 95th
-  // percentile <= 4.0 (the bar), exact under D65 (1e-5), 0 <= rho <= 1.
+  // percentile <= 4.0 (the stated bar), exact under D65 (1e-5), 0 <= rho <= 1.
   const Spectralizer sp = make_smooth(Mode::reflectance);
   const Illuminant a = Illuminant::get("A");
   const SampleWeights under_a(sp.settings().grid, Observer::get("cie1931"), &a);

@@ -90,8 +90,8 @@ struct Tally {
 };
 
 // The promises for one non-black, finite, Y > 0 input (see the file comment). Tolerances:
-// 1e-5 relative XYZ error is the exactness bar of the issue (the exact projection normally
-// lands within ~1e-13); 1e-12 on the bound rho <= 1 is double rounding.
+// 1e-5 relative XYZ error is the float exactness bar (docs/DESIGN.md §3; the exact projection
+// normally lands within ~1e-13); 1e-12 on the bound rho <= 1 is double rounding.
 inline void check_result(const Spectralizer& sp, const Reference& ref, const Xyz& input,
                          const SpectrumResult& r, Tally& tally) {
   const bool reflectance = sp.settings().mode == Mode::reflectance;

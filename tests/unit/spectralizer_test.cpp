@@ -54,7 +54,7 @@ TEST(Spectralizer, PapersLightExample) {
   const SpectrumResult r = sp.spectralize(xyz);
   ASSERT_EQ(r.status, Status::ok) << r.message;
   const Xyz got = integrate(sp, ref, r.values);
-  EXPECT_LE(rel_err(got, xyz), 1e-5);       // the light's colour, exactly (issue's bar)
+  EXPECT_LE(rel_err(got, xyz), 1e-5);       // the light's colour, exactly (DESIGN §3 float bar)
   EXPECT_LE(rel_err(got, r.target), 1e-9);  // and the reported target, to double rounding
   for (double v : r.values) EXPECT_GE(v, 0.0);
   // Edge peaks removed: no sample in 380-400 or 760-780 nm above the mean over 400-700 nm.
@@ -250,7 +250,7 @@ TEST(Spectralizer, EmissionIsScaleInvariant) {
 
 TEST(Spectralizer, EmissionIsExactAcrossTheFloatRange) {
   // Scene-linear float pixels range from denormals to FLT_MAX (3.4e38); the XYZ of any finite
-  // float colour must get an exact, finite spectrum. 1e-5: the exactness bar.
+  // float colour must get an exact, finite spectrum. 1e-5: the float exactness bar (DESIGN §3).
   const Spectralizer sp = make(Mode::emission);
   const Reference ref = reference_of(sp);
   const Xyz base = test::rgb(test::kRec709ToXyz, 0.21, 0.72, 0.15);
