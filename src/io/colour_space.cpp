@@ -6,7 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -68,6 +71,41 @@ XyzRoute xyz_route_of(const ConfigPtr& config, const std::string& origin) {
                     " (ACES2065-1); add one of these roles or spaces to the config");
 }
 
+// Parsing a config compiles its file rules into regular expressions (milliseconds, and a
+// recursion deep enough to matter under a recipe chain): a job, a chain of recipes and a batch
+// read the same config many times, so a process keeps what it parsed, keyed by the config's
+// location and bytes (an edited file is parsed again). Parsed configs are immutable and OCIO
+// reads them from any thread. `path` empty: the shipped config.
+ConfigPtr parsed_config(const std::string& path) {
+  static std::mutex mutex;
+  static std::map<std::string, ConfigPtr> parsed;
+  std::string key = "shipped";
+  if (!path.empty()) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << f.rdbuf();
+    std::error_code ec;
+    const std::filesystem::path where = std::filesystem::absolute(path, ec);
+    key = (ec ? path : where.string()) + '\0' + bytes.str();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = parsed.find(key); it != parsed.end()) return it->second;
+  }
+  ConfigPtr config;
+  if (path.empty()) {
+    std::istringstream text{std::string(embedded::kOcioConfig)};
+    config = OCIO::Config::CreateFromStream(text);
+  } else {
+    config = OCIO::Config::CreateFromFile(path.c_str());
+  }
+  config->validate();
+  std::lock_guard<std::mutex> lock(mutex);
+  if (parsed.size() >= 16) parsed.clear();  // a bound, for processes that see many configs
+  parsed.emplace(std::move(key), config);
+  return config;
+}
+
 }  // namespace
 
 void ColourTransform::apply(float* rgb, std::size_t pixels) const {
@@ -104,22 +142,20 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
     if (!explicit_path.empty()) {
       where = explicit_path;
       check_readable_file(explicit_path, "OCIO config");
-      config = OCIO::Config::CreateFromFile(explicit_path.c_str());
+      config = parsed_config(explicit_path);
       cs.origin_ = explicit_path;
       cs.file_ = explicit_path;
     } else if (const char* env = std::getenv("OCIO"); env && *env) {
       where = std::string("$OCIO=") + env;
       check_readable_file(env, "$OCIO");
-      config = OCIO::Config::CreateFromFile(env);
+      config = parsed_config(env);
       cs.origin_ = where;
       cs.file_ = env;
     } else {
       where = "the shipped config";
-      std::istringstream text{std::string(embedded::kOcioConfig)};
-      config = OCIO::Config::CreateFromStream(text);
+      config = parsed_config("");
       cs.origin_ = "shipped";
     }
-    config->validate();
   } catch (const OCIO::Exception& e) {
     throw ConfigError("OCIO config '" + where + "': " + clip(e.what(), 300));
   } catch (const Error& e) {  // not a readable regular file, or a built-in config

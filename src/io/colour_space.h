@@ -37,7 +37,8 @@ class ColourSpaces {
  public:
   /// Loads the config: `explicit_path` if non-empty, else $OCIO if set, else the config shipped
   /// with spectralize (embedded). The file must be a regular file (a FIFO would block). Throws
-  /// Error naming the file and OCIO's reason. Cost: config parse, ~ms.
+  /// Error naming the file and OCIO's reason. Cost: reading the file; the parse (~ms) only the
+  /// first time the process meets these bytes at this location.
   static ColourSpaces load(const std::string& explicit_path = "");
 
   /// Where the config came from, for reports: "shipped", "$OCIO (path)" or the path. Cost: O(1).

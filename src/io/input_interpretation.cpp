@@ -547,6 +547,7 @@ void decide_light_or_surface(InputInterpretation& in, const std::string& file,
   clues.colorspace = in.colorspace;
   clues.width = spec.width;
   clues.height = spec.height;
+  clues.recorded_mode = spec.get_string_attribute("spectralize:mode");
   const ColourTransform to_xyz = spaces.to_xyz(in.colorspace);
   clues.can_exceed_white = clues.float_data || to_xyz(1, 1, 1).Y > kLightAboveY;
   clues.brightest = [&] { return brightest_pixel(file, in.channels, to_xyz, kClearlyLightY); };

@@ -32,6 +32,16 @@ ModeDecision decide_mode(const ModeClues& c) {
     d.reason = c.name.reason;
     return d;
   }
+  // RGB that spectralize made from spectra records their kind: known, so not read again (a
+  // chain of recipes would otherwise decode every level below twice).
+  if (c.recorded_mode == "reflectance" || c.recorded_mode == "emission") {
+    d.mode = c.recorded_mode == "emission" ? Mode::emission : Mode::reflectance;
+    d.reason =
+        "auto: the file records that its RGB was made from " +
+        std::string(d.mode == Mode::emission ? "light (emission)" : "surface (reflectance)") +
+        " spectra (spectralize:mode)";
+    return d;
+  }
   const bool latlong = c.height > 0 && c.width == 2 * c.height;
   // 8- and 16-bit samples hold 0..1; decoded by a display or texture encoding they stay within
   // white, which no light needs to be and every surface is.

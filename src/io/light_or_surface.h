@@ -38,6 +38,9 @@ struct ModeClues {
                                  // or a log space); false: integer data in sRGB, gamma, linear
   std::string colorspace;        // for the reasons
   int width = 0, height = 0;
+  // What the file records it holds ("reflectance" or "emission", spectralize:mode): spectralize
+  // writes it on RGB it made from spectra, whose kind it knew; "" when the file says nothing.
+  std::string recorded_mode;
   std::function<Brightest()> brightest;
 };
 
@@ -53,7 +56,8 @@ inline constexpr double kLightAboveY = 1.001;
 inline constexpr double kClearlyLightY = 1.5;
 
 /// The decision, first clue that applies: --mode; a light or surface word of the name, else of
-/// its folders; integer data that cannot exceed white is a surface; else the image's peak: Y
+/// its folders; the kind the file records (RGB spectralize made from spectra); integer data
+/// that cannot exceed white is a surface; else the image's peak: Y
 /// above kLightAboveY is light, otherwise a surface (a 2:1 map within white, or a light
 /// barely above it, is warned). Cost: O(1) plus brightest() when it is called.
 ModeDecision decide_mode(const ModeClues& clues);

@@ -234,6 +234,9 @@ OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLay
   const auto record = [&](const char* key) {
     spec.attribute("spectralize:" + std::string(key), setting_value(*find_setting(key), settings));
   };
+  // What the RGB is (the kind of the spectra it was made from): read back by the light-or-surface
+  // decision, so RGB made from a surface's spectra is spectralized as a surface again.
+  spec.attribute("spectralize:mode", layout.emissive ? "emission" : "reflectance");
   record("observer");
   if (!layout.emissive) {
     record("illuminant");

@@ -5,6 +5,13 @@
 #include "io/colour_space.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
 
 namespace spectralize {
 namespace {
@@ -52,6 +59,36 @@ TEST(ColourSpace, InteropIdsSayDisplayReferred) {
   EXPECT_EQ(shipped.interop_id("sRGB - Texture"), "srgb_rec709_scene");
   EXPECT_EQ(shipped.interop_id("Display P3 - Texture"), "srgb_p3d65_scene");
   EXPECT_EQ(shipped.interop_id("ACEScct"), "");  // a log curve: no ID a measurement can tell
+}
+
+// A process keeps the configs it parsed, keyed by location and bytes: a config edited between two
+// loads (same path, same size) is read again, and a broken one is never remembered as valid.
+TEST(ColourSpace, AnEditedConfigIsReadAgain) {
+  const std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) / ("cs_cache_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "c.ocio").string();
+  auto write = [&](const std::string& a, const std::string& b) {
+    std::ofstream(path) << "ocio_profile_version: 2\nroles:\n  default: " << a
+                        << "\n  scene_linear: " << a << "\n  cie_xyz_d65_interchange: " << a
+                        << "\ndisplays:\n  d:\n    - !<View> {name: v, colorspace: " << a
+                        << "}\ncolorspaces:\n  - !<ColorSpace>\n    name: " << a
+                        << "\n  - !<ColorSpace>\n    name: " << b << "\n";
+  };
+  write("lin_one", "extra_aa");
+  const auto first = ColourSpaces::load(path).names();
+  EXPECT_NE(std::find(first.begin(), first.end(), "extra_aa"), first.end());
+  write("lin_one", "extra_bb");  // same length: only the bytes tell the configs apart
+  const auto second = ColourSpaces::load(path).names();
+  EXPECT_EQ(std::find(second.begin(), second.end(), "extra_aa"), second.end());
+  EXPECT_NE(std::find(second.begin(), second.end(), "extra_bb"), second.end());
+  std::ofstream(path) << "ocio_profile_version: 2\nroles: [\n";  // not YAML
+  EXPECT_THROW(ColourSpaces::load(path), Error);
+  EXPECT_THROW(ColourSpaces::load(path), Error);
+  write("lin_one", "extra_aa");  // back to the first bytes: the first config again
+  const auto third = ColourSpaces::load(path).names();
+  EXPECT_NE(std::find(third.begin(), third.end(), "extra_aa"), third.end());
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -57,6 +57,26 @@ TEST(LightOrSurface, TheCluesInTheirOrder) {
       {"data says nothing about the mode: the image decides",
        clues(MapKind::data, true, 64, 64, 40), Mode::emission, 0},
   };
+  // What spectralize recorded on RGB it made from spectra, after --mode and the words.
+  ModeClues recorded = clues(MapKind::none, true, 64, 64, 40);
+  recorded.recorded_mode = "reflectance";
+  ModeClues recorded_light = clues(MapKind::none, false, 64, 64, 0.5);
+  recorded_light.recorded_mode = "emission";
+  ModeClues worded = clues(MapKind::emission, true, 64, 64, 0.5);
+  worded.recorded_mode = "reflectance";
+  ModeClues garbled = clues(MapKind::none, true, 64, 64, 40);
+  garbled.recorded_mode = "glossy";
+  const Case more[] = {
+      {"a recorded surface outranks a bright image", recorded, Mode::reflectance, 0},
+      {"a recorded light outranks 8-bit data", recorded_light, Mode::emission, 0},
+      {"a light word outranks a recorded surface", worded, Mode::emission, 0},
+      {"an unknown record is no clue", garbled, Mode::emission, 0},
+  };
+  for (const Case& k : more) {
+    const ModeDecision d = decide_mode(k.c);
+    EXPECT_EQ(d.mode, k.mode) << k.what << ": " << d.reason;
+    EXPECT_EQ(d.warnings.size(), k.warnings) << k.what;
+  }
   for (const Case& k : cases) {
     const ModeDecision d = decide_mode(k.c);
     EXPECT_EQ(d.mode, k.mode) << k.what << ": " << d.reason;
@@ -67,6 +87,9 @@ TEST(LightOrSurface, TheCluesInTheirOrder) {
   int reads = 0;
   decide_mode(clues(MapKind::reflectance, true, 64, 64, 40, &reads));
   decide_mode(clues(MapKind::none, false, 64, 64, 0.5, &reads));
+  ModeClues known = clues(MapKind::none, true, 64, 64, 40, &reads);
+  known.recorded_mode = "emission";
+  decide_mode(known);
   EXPECT_EQ(reads, 0);
   decide_mode(clues(MapKind::none, true, 64, 64, 0.5, &reads));
   EXPECT_EQ(reads, 1);
