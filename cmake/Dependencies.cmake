@@ -26,12 +26,26 @@ foreach(_t OpenImageIO::OpenImageIO_Util)
   endif()
 endforeach()
 
-# OpenColorIO's CMake config is installed where find_package does not look on Debian 12, and it
-# is not reliable there: build the imported target by hand.
-if(NOT TARGET OpenColorIO::OpenColorIO)
+# OpenColorIO's own CMake package first. Debian 12 installs it in /usr/share/cmake, where
+# find_package does not look and where its computed prefix would be wrong; a package whose
+# library is not where it says is not used either. Then the imported target is built by hand.
+find_package(OpenColorIO CONFIG QUIET)
+if(TARGET OpenColorIO::OpenColorIO)
+  get_target_property(_ocio_lib OpenColorIO::OpenColorIO IMPORTED_LOCATION_RELEASE)
+  if(NOT _ocio_lib)
+    get_target_property(_ocio_lib OpenColorIO::OpenColorIO IMPORTED_LOCATION)
+  endif()
+  if(_ocio_lib AND EXISTS "${_ocio_lib}")
+    message(STATUS "OpenColorIO: its CMake package (${_ocio_lib})")
+    set(_ocio_from_package ON)
+  endif()
+endif()
+if(NOT _ocio_from_package)
   find_path(OCIO_INCLUDE_DIR OpenColorIO/OpenColorIO.h REQUIRED)
   find_library(OCIO_LIBRARY NAMES OpenColorIO REQUIRED)
-  add_library(OpenColorIO::OpenColorIO UNKNOWN IMPORTED)
+  if(NOT TARGET OpenColorIO::OpenColorIO)
+    add_library(OpenColorIO::OpenColorIO UNKNOWN IMPORTED)
+  endif()
   set_target_properties(OpenColorIO::OpenColorIO PROPERTIES
     IMPORTED_LOCATION "${OCIO_LIBRARY}"
     INTERFACE_INCLUDE_DIRECTORIES "${OCIO_INCLUDE_DIR}")

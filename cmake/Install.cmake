@@ -24,27 +24,15 @@ add_custom_target(spectralize_help ALL DEPENDS ${PROJECT_BINARY_DIR}/spectralize
 install(FILES ${PROJECT_BINARY_DIR}/spectralize-help.txt ${PROJECT_SOURCE_DIR}/README.md
         ${PROJECT_SOURCE_DIR}/docs/DESIGN.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
-# The core library and its public headers: include/spectralize/core/*.h (they include each
-# other as "core/x.h", so include/spectralize is on the include path too) and version.h.
-configure_file(${PROJECT_SOURCE_DIR}/cmake/version.h.in
-               ${PROJECT_BINARY_DIR}/generated/spectralize/version.h @ONLY)
-# The same include paths in a build tree (a parent project's add_subdirectory):
-# <spectralize/core/x.h> is src/core/x.h, <spectralize/version.h> the generated one.
-file(CREATE_LINK ${PROJECT_SOURCE_DIR}/src/core ${PROJECT_BINARY_DIR}/generated/spectralize/core
-     SYMBOLIC)
-target_include_directories(spectralize_core PUBLIC $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>)
-file(GLOB _core_headers ${PROJECT_SOURCE_DIR}/src/core/*.h)
-install(FILES ${_core_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spectralize/core)
+# The public headers are exactly include/spectralize/: the core API (core/, the spectralizer and
+# what it includes), the render-time evaluator (rt*.h, header-only target spectralize::rt) and
+# the generated version.h. The solvers' internals (src/core) are not installed.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/spectralize
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/generated/spectralize/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spectralize)
 install(TARGETS spectralize_core EXPORT spectralizeTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} ${CMAKE_INSTALL_INCLUDEDIR}/spectralize)
-# The render-time evaluator: headers only (include/spectralize/rt*.h), target spectralize::rt.
-install(FILES ${PROJECT_SOURCE_DIR}/include/spectralize/rt.h
-        ${PROJECT_SOURCE_DIR}/include/spectralize/rt.hpp
-        ${PROJECT_SOURCE_DIR}/include/spectralize/rt_format.h
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spectralize)
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS spectralize_rt EXPORT spectralizeTargets)
 install(EXPORT spectralizeTargets NAMESPACE spectralize:: DESTINATION ${SPECTRALIZE_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/spectralizeConfig.cmake.in

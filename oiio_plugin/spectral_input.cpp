@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/image_conversion.h"
 #include "io/image_input.h"
@@ -24,6 +24,7 @@
 #include "io/recipe.h"
 #include "io/rgb_from_spectral.h"
 #include "io/safe_output.h"
+#include "spectralize/version.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN
 

@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectrum_model.h"
 #include "io/colour_array.h"
 #include "io/image_job.h"
 #include "io/image_report.h"
@@ -33,6 +33,7 @@
 #include "py_arrays.h"
 #include "py_interrupt.h"
 #include "py_options.h"
+#include "spectralize/version.h"
 
 namespace py = pybind11;
 

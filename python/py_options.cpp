@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace py = pybind11;
 

@@ -4,10 +4,10 @@
 #include <atomic>
 #include <thread>
 
-#include "core/colorimetry.h"
+#include "spectralize/core/colorimetry.h"
 #include "core/colour_difference.h"
-#include "core/error.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize::baseline {
 

@@ -39,9 +39,9 @@
 #include <emmintrin.h>
 #endif
 
-#include "core/sample_weights.h"
-#include "core/wavelength_grid.h"
-#include "core/xyz.h"
+#include "spectralize/core/sample_weights.h"
+#include "spectralize/core/wavelength_grid.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::baseline {
 

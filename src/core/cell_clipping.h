@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/gamut_boundary.h"
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

@@ -1,4 +1,4 @@
-#include "core/colorimetry.h"
+#include "spectralize/core/colorimetry.h"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "core/embedded_data.h"
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

@@ -4,7 +4,7 @@
 // CIEDE2000's local metric, the exemplar model's distance to its measured colours
 // (docs/DESIGN.md §6).
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

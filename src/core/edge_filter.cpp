@@ -1,10 +1,10 @@
-#include "core/edge_filter.h"
+#include "spectralize/core/edge_filter.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "core/cell_clipping.h"
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

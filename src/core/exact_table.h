@@ -32,7 +32,7 @@
 
 #include "core/gamut_boundary.h"
 #include "core/mat3.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

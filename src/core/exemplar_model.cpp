@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/bounded_projection.h"
-#include "core/colorimetry.h"
+#include "spectralize/core/colorimetry.h"
 
 namespace spectralize {
 

@@ -18,7 +18,7 @@
 
 #include "core/colour_difference.h"
 #include "core/natural_solver.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/spectrum_model.h"
 
 namespace spectralize {
 

@@ -1,4 +1,4 @@
-#include "core/gamut.h"
+#include "spectralize/core/gamut.h"
 
 #include <cmath>
 

@@ -6,7 +6,7 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

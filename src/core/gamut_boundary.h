@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/mat3.h"
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

@@ -5,7 +5,7 @@
 #include <array>
 #include <cmath>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

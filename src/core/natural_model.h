@@ -6,7 +6,7 @@
 // (NaturalSolver).
 
 #include "core/natural_solver.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/spectrum_model.h"
 
 namespace spectralize {
 

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "core/paper_solver.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/spectrum_model.h"
 
 namespace spectralize {
 

@@ -13,8 +13,8 @@
 #include <span>
 #include <vector>
 
-#include "core/edge_filter.h"
-#include "core/xyz.h"
+#include "spectralize/core/edge_filter.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

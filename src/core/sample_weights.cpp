@@ -1,9 +1,9 @@
-#include "core/sample_weights.h"
+#include "spectralize/core/sample_weights.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

@@ -5,7 +5,7 @@
 
 #include "core/paper_model.h"
 #include "core/smooth_solver.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/spectrum_model.h"
 
 namespace spectralize {
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

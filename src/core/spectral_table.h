@@ -25,7 +25,7 @@
 
 #include "core/exact_table.h"
 #include "core/mat3.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

@@ -1,9 +1,9 @@
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

@@ -11,7 +11,8 @@
 #include <tuple>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
+#include "spectralize/version.h"
 
 namespace spectralize {
 

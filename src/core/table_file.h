@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/exact_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

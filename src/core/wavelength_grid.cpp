@@ -1,10 +1,10 @@
-#include "core/wavelength_grid.h"
+#include "spectralize/core/wavelength_grid.h"
 
 #include <charconv>
 #include <cmath>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/image_file_output.h"
 
 namespace fs = std::filesystem;

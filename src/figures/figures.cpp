@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <system_error>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
-#include "core/sample_weights.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/sample_weights.h"
+#include "spectralize/core/spectralizer.h"
 #include "figures/figure_image.h"
 #include "figures/sphere_render.h"
 #include "io/colour_space.h"

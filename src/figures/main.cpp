@@ -9,7 +9,7 @@
 #include <iostream>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "figures/figures.h"
 #include "figures/validation.h"
 

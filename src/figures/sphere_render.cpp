@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::figures {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/colour_difference.h"
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::figures {
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "core/edge_filter.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/edge_filter.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 
 namespace spectralize::figures {

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
-#include "core/error.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/safe_output.h"
 
 namespace fs = std::filesystem;

@@ -2,7 +2,7 @@
 
 #include <OpenImageIO/parallel.h>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/input_interpretation.h"
 #include "io/render_table.h"
 #include "io/safe_output.h"

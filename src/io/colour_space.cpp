@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 
 namespace OCIO = OCIO_NAMESPACE;

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 #include "io/icc_profile.h"
 
 namespace spectralize {

@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <exception>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 
 namespace spectralize {

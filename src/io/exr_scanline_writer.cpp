@@ -13,7 +13,7 @@
 #include <cctype>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

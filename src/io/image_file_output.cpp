@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/output_formats.h"
 #include "io/safe_output.h"
 

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <thread>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/exr_scanline_reader.h"
 #include "io/safe_output.h"
 

@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/colour_tags.h"
 #include "io/exr_header.h"

@@ -17,7 +17,7 @@
 #include <set>
 #include <thread>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/exr_header.h"
 #include "io/image_conversion.h"
@@ -29,6 +29,7 @@
 #include "io/map_kind.h"
 #include "io/safe_output.h"
 #include "io/table_pool.h"
+#include "spectralize/version.h"
 
 namespace fs = std::filesystem;
 

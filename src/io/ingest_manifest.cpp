@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/json_text.h"
 #include "io/safe_output.h"
 

@@ -17,12 +17,13 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/ingest.h"
 #include "io/safe_output.h"
 #include "io/same_stem.h"
 #include "io/shard.h"
+#include "spectralize/version.h"
 
 namespace fs = std::filesystem;
 

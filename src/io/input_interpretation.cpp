@@ -10,7 +10,7 @@
 #include <map>
 #include <set>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/light_or_surface.h"
 #include "io/safe_output.h"
 #include "io/spectral_layout.h"

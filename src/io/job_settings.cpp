@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
 #include "io/output_formats.h"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/map_kind.h"
 #include "io/settings.h"

@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 
 namespace spectralize {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <set>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 
 namespace spectralize {

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 
 namespace spectralize {

@@ -6,7 +6,7 @@
 #include <chrono>
 #include <filesystem>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "core/table_file.h"
 #include "io/input_interpretation.h"
 #include "io/job_settings.h"

@@ -5,14 +5,15 @@
 #include <cmath>
 #include <limits>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_tags.h"
 #include "io/output_metadata.h"
 #include "io/safe_output.h"
 #include "io/settings.h"
 #include "io/spectral_layout.h"
+#include "spectralize/version.h"
 
 namespace spectralize {
 

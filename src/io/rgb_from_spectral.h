@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/sample_weights.h"
+#include "spectralize/core/sample_weights.h"
 #include "io/colour_space.h"
 #include "io/settings.h"
 

@@ -23,7 +23,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
 

@@ -4,11 +4,12 @@
 #include <charconv>
 #include <cmath>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 #include "io/map_kind.h"
 #include "io/output_formats.h"
 #include "io/safe_output.h"
+#include "spectralize/version.h"
 
 namespace spectralize {
 

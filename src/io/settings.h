@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/input_interpretation.h"
 #include "io/spectral_image_layout.h"

@@ -3,6 +3,7 @@
 #include "io/colour_tags.h"
 #include "io/output_metadata.h"
 #include "io/spectral_layout.h"
+#include "spectralize/version.h"
 
 namespace spectralize {
 

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/settings.h"
 

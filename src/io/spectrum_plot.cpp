@@ -18,12 +18,13 @@
 #include <string_view>
 #include <utility>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/colour_tags.h"
 #include "io/image_file_output.h"
 #include "io/output_formats.h"
 #include "io/safe_output.h"
+#include "spectralize/version.h"
 
 namespace fs = std::filesystem;
 

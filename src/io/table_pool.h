@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/job_log.h"
 #include "io/settings.h"
 

@@ -4,7 +4,7 @@
 #include <numbers>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

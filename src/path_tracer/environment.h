@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 #include "path_tracer/scene.h"
 
 namespace spectralize::path_tracer {

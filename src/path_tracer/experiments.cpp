@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "baseline/sigmoid_spectrum.h"
-#include "core/colorimetry.h"
-#include "core/error.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 #include "figures/figure_image.h"
 #include "io/colour_space.h"
 #include "path_tracer/environment.h"

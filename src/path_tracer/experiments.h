@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 #include "path_tracer/image_difference.h"
 #include "path_tracer/scene.h"
 

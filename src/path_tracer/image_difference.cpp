@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/colour_difference.h"
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::path_tracer {
 

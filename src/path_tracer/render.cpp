@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

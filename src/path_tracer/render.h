@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 #include "path_tracer/environment.h"
 #include "path_tracer/paths.h"
 #include "path_tracer/scene.h"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/rgb_from_spectral.h"
 
 namespace spectralize::path_tracer {

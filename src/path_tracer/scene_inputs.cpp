@@ -2,8 +2,8 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 #include "figures/sphere_render.h"
 #include "io/colour_space.h"
 #include "path_tracer/sampled_spectra.h"

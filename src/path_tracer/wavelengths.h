@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/colorimetry.h"
+#include "spectralize/core/colorimetry.h"
 
 namespace spectralize::path_tracer {
 

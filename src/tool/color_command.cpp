@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/json_text.h"
 #include "io/safe_output.h"

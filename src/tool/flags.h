@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/job_log.h"
 #include "tool/options.h"

@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/colour_space.h"
 #include "io/image_job.h"
 #include "io/job_settings.h"

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/ingest.h"
 #include "io/job_settings.h"
 #include "io/safe_output.h"

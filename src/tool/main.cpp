@@ -10,11 +10,12 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/safe_output.h"
 #include "io/spectrum_plot.h"
 #include "tool/flags.h"
 #include "tool/options.h"
+#include "spectralize/version.h"
 
 using namespace spectralize;
 using namespace spectralize::tool;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "io/colour_space.h"
 #include "io/image_input.h"
 #include "io/rgb_from_spectral.h"

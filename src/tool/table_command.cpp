@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/render_table.h"
 #include "io/safe_output.h"
 #include "tool/flags.h"

@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace bench {
 

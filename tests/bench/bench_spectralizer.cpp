@@ -21,7 +21,7 @@
 #include "core/exemplar_model.h"
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "core/table_file.h"
 
 using namespace spectralize;

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bench_colours.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;
 using bench::rec709;

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;
 

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "core/colorimetry.h"
+#include "spectralize/core/colorimetry.h"
 #include "core/colour_difference.h"
-#include "core/sample_weights.h"
+#include "spectralize/core/sample_weights.h"
 #include "core/smooth_solver.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "tool/flags.h"
 
 using namespace spectralize;

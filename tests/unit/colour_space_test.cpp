@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 namespace {

@@ -23,7 +23,7 @@
 
 #include "core/colour_difference.h"
 #include "core/natural_solver.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 

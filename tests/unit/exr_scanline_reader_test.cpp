@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "io/exr_scanline_reader.h"
 
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/gamut_boundary.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 
 namespace spectralize {

@@ -12,7 +12,7 @@
 #include <memory>
 #include <sstream>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "core/spectral_table.h"
 #include "io/colour_space.h"
 #include "io/colour_tags.h"

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 namespace {

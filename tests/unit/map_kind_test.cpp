@@ -12,7 +12,7 @@
 #include <regex>
 #include <sstream>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 namespace {

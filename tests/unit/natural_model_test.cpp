@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/natural_solver.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 

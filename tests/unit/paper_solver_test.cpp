@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "core/edge_filter.h"
-#include "core/sample_weights.h"
+#include "spectralize/core/edge_filter.h"
+#include "spectralize/core/sample_weights.h"
 #include "test_support.h"
 
 namespace spectralize {

@@ -25,7 +25,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 
 namespace spectralize {

@@ -2,7 +2,7 @@
 // weights that make W . phi equal the reference integration of docs/DESIGN.md §3. The oracle is the
 // 1 nm trapezoid loop of test_support.h, written from the definition.
 
-#include "core/sample_weights.h"
+#include "spectralize/core/sample_weights.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 #include "test_support.h"
 
 namespace spectralize {

@@ -10,10 +10,10 @@
 #include <set>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
-#include "core/spectrum_model.h"
+#include "spectralize/core/spectralizer.h"
+#include "spectralize/core/spectrum_model.h"
 #include "io/colour_space.h"
 #include "io/settings.h"
 #include "io/spectral_image_layout.h"

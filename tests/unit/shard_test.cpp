@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 namespace {

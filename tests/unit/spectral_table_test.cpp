@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/spectral_table.h"
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 
 namespace spectralize {

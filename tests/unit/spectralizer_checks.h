@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 
 namespace spectralize::test {

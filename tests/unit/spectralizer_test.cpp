@@ -3,7 +3,7 @@
 // reflectance never exceeds 1. Exactness is checked with test_support.h's own 1 nm trapezoid
 // integration; targets are recomputed here from the RGB matrices and the white balance of eq. 6.
 
-#include "core/spectralizer.h"
+#include "spectralize/core/spectralizer.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/error.h"
+#include "spectralize/core/error.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 

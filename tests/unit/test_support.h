@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "core/colorimetry.h"
-#include "core/error.h"
-#include "core/wavelength_grid.h"
-#include "core/xyz.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/wavelength_grid.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::test {
 

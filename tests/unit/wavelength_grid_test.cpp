@@ -1,7 +1,7 @@
 // WavelengthGrid: the default grid, parsing of "start:end:step", the errors a user sees for bad
 // grids, and the to_string() round trip (docs/DESIGN.md §3).
 
-#include "core/wavelength_grid.h"
+#include "spectralize/core/wavelength_grid.h"
 
 #include <gtest/gtest.h>
 

@@ -48,6 +48,6 @@ int main(int argc, char** argv) {
   }
   double err = 0;
   for (int c = 0; c < 3; ++c) err = std::max(err, std::abs(xyz[c] / k - target[c]) / 0.4);
-  std::printf("%s %s %.3g\n", err <= 1e-9 ? "ok" : "FAILED", SPECTRALIZE_VERSION_STRING, err);
+  std::printf("%s %s %.3g\n", err <= 1e-9 ? "ok" : "FAILED", SPECTRALIZE_VERSION, err);
   return err <= 1e-9 ? 0 : 1;
 }

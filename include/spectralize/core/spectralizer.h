@@ -11,13 +11,13 @@
 #include <string_view>
 #include <vector>
 
-#include "core/colorimetry.h"
-#include "core/edge_filter.h"
-#include "core/gamut.h"
-#include "core/sample_weights.h"
-#include "core/spectrum_model.h"
-#include "core/wavelength_grid.h"
-#include "core/xyz.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/edge_filter.h"
+#include "spectralize/core/gamut.h"
+#include "spectralize/core/sample_weights.h"
+#include "spectralize/core/spectrum_model.h"
+#include "spectralize/core/wavelength_grid.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

@@ -7,9 +7,9 @@
 #include <span>
 #include <vector>
 
-#include "core/colorimetry.h"
-#include "core/wavelength_grid.h"
-#include "core/xyz.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/wavelength_grid.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "core/xyz.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 
