@@ -51,7 +51,7 @@ if(NOT _ocio_from_package)
     INTERFACE_INCLUDE_DIRECTORIES "${OCIO_INCLUDE_DIR}")
 endif()
 
-# LittleCMS makes the ICC profiles of TIFF, PNG and JPEG outputs (io/icc_profile.cpp only).
+# LittleCMS makes the ICC profiles of TIFF, PNG and JPEG outputs (colour/icc_profile.cpp only).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LCMS2 REQUIRED IMPORTED_TARGET lcms2)
 

@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "io/colour_space.h"
-#include "io/image_conversion.h"
-#include "io/image_input.h"
-#include "io/input_interpretation.h"
-#include "io/output_metadata.h"
-#include "io/recipe.h"
-#include "io/rgb_from_spectral.h"
-#include "io/safe_output.h"
+#include "colour/colour_space.h"
+#include "pipeline/image_conversion.h"
+#include "imagefile/image_reader.h"
+#include "classify/input_interpretation.h"
+#include "imagefile/output_metadata.h"
+#include "settings/recipe.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "imagefile/safe_output.h"
 #include "spectralize/version.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN

@@ -21,15 +21,15 @@
 
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectrum_model.h"
-#include "io/colour_array.h"
-#include "io/image_job.h"
-#include "io/image_report.h"
-#include "io/ingest.h"
-#include "io/job_settings.h"
-#include "io/render_table.h"
-#include "io/safe_output.h"
-#include "io/shard.h"
-#include "io/table_pool.h"
+#include "pipeline/colour_array.h"
+#include "pipeline/image_job.h"
+#include "pipeline/image_report.h"
+#include "ingest/ingest.h"
+#include "pipeline/job_settings.h"
+#include "pipeline/render_table.h"
+#include "imagefile/safe_output.h"
+#include "ingest/shard.h"
+#include "pipeline/table_pool.h"
 #include "py_arrays.h"
 #include "py_interrupt.h"
 #include "py_options.h"
@@ -43,7 +43,7 @@ namespace {
 
 const OptionNames kKeywordNames{"", "output"};
 
-// The scopes of the functions' keyword options (one schema: io/settings.h).
+// The scopes of the functions' keyword options (one schema: settings/settings.h).
 const OptionScope kSpectraScope{
     "spectra", kColor, {"print_format"}, {"method", "cache", "threads"}};
 const OptionScope kToRgbScope{"to_rgb", kToRgb, {"format", "compression", "tile"}, {"mode"}};
@@ -322,7 +322,7 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   if (request.sources.empty() && request.inputs_from.empty())
     value_error(kIngestScope, "give the files, folders or patterns to ingest (or inputs_from)");
   if (!shard.empty()) {
-    // The CLI's parser: the same values accepted and refused (io/shard.h).
+    // The CLI's parser: the same values accepted and refused (ingest/shard.h).
     try {
       const ShardSpec spec = parse_shard(shard);
       request.shard = spec.index;

@@ -8,7 +8,7 @@
 #include <mutex>
 #include <thread>
 
-#include "io/safe_output.h"
+#include "imagefile/safe_output.h"
 
 namespace py = pybind11;
 

@@ -1,5 +1,5 @@
 #pragma once
-// Keyword options of the Python functions, read through the settings schema (io/settings.h):
+// Keyword options of the Python functions, read through the settings schema (settings/settings.h):
 // the CLI's options by their recipe keys, with the CLI's validation and messages.
 
 #include <pybind11/pybind11.h>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/settings.h"
+#include "settings/settings.h"
 
 namespace spectralize::python {
 

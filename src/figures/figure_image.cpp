@@ -11,7 +11,7 @@
 #include <system_error>
 
 #include "spectralize/core/error.h"
-#include "io/image_file_output.h"
+#include "imagefile/image_file_output.h"
 
 namespace fs = std::filesystem;
 
@@ -28,7 +28,7 @@ void draw_text(OIIO::ImageBuf& buf, int x, int y, const std::string& text, int s
   OIIO::ImageBufAlgo::render_text(buf, x, y, text, size, font, colour, align);
 }
 
-// Writes an 8-bit PNG through io/safe_output.h, so a failed run never leaves a half-written
+// Writes an 8-bit PNG through imagefile/safe_output.h, so a failed run never leaves a half-written
 // figure.
 void write_png(OIIO::ImageBuf& buf, const std::string& path) {
   write_image_file(buf, path, OIIO::TypeDesc::UINT8);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "figures/sphere_render.h"
-#include "io/colour_space.h"
+#include "colour/colour_space.h"
 
 namespace spectralize::figures {
 

@@ -13,8 +13,8 @@
 #include "spectralize/core/spectralizer.h"
 #include "figures/figure_image.h"
 #include "figures/sphere_render.h"
-#include "io/colour_space.h"
-#include "io/spectrum_plot.h"
+#include "colour/colour_space.h"
+#include "plot/spectrum_plot.h"
 
 namespace fs = std::filesystem;
 

@@ -17,7 +17,7 @@
 
 #include "spectralize/core/edge_filter.h"
 #include "spectralize/core/spectralizer.h"
-#include "io/colour_space.h"
+#include "colour/colour_space.h"
 
 namespace spectralize::figures {
 

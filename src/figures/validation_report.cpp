@@ -10,7 +10,7 @@
 
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "io/safe_output.h"
+#include "imagefile/safe_output.h"
 
 namespace fs = std::filesystem;
 

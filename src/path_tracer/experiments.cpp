@@ -13,7 +13,7 @@
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
 #include "figures/figure_image.h"
-#include "io/colour_space.h"
+#include "colour/colour_space.h"
 #include "path_tracer/environment.h"
 #include "path_tracer/render.h"
 #include "path_tracer/rt_texture.h"

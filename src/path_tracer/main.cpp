@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "io/safe_output.h"
+#include "imagefile/safe_output.h"
 #include "path_tracer/experiments.h"
 
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "spectralize/core/error.h"
-#include "io/rgb_from_spectral.h"
+#include "pipeline/rgb_from_spectral.h"
 
 namespace spectralize::path_tracer {
 

@@ -9,7 +9,7 @@
 
 #include "spectralize/core/xyz.h"
 #include "figures/sphere_render.h"
-#include "io/colour_space.h"
+#include "colour/colour_space.h"
 #include "path_tracer/sampled_spectra.h"
 
 namespace spectralize::path_tracer {

@@ -12,9 +12,9 @@
 
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "io/colour_space.h"
-#include "io/json_text.h"
-#include "io/safe_output.h"
+#include "colour/colour_space.h"
+#include "text/json_text.h"
+#include "imagefile/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

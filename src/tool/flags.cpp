@@ -12,9 +12,9 @@
 #include <memory>
 #include <vector>
 
-#include "io/input_interpretation.h"
-#include "io/render_table.h"
-#include "io/safe_output.h"
+#include "classify/input_interpretation.h"
+#include "pipeline/render_table.h"
+#include "imagefile/safe_output.h"
 
 namespace spectralize::tool {
 

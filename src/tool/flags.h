@@ -8,8 +8,8 @@
 #include "spectralize/core/error.h"
 #include "core/spectral_table.h"
 #include "spectralize/core/spectralizer.h"
-#include "io/colour_space.h"
-#include "io/job_log.h"
+#include "colour/colour_space.h"
+#include "pipeline/job_log.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -44,7 +44,7 @@ Rgb parse_rgb(const std::string& text);
 
 /// What every --color command needs: the spectralizer settings (mode auto meaning emission),
 /// the parsed colours, the config, the transform of --colorspace (default: the config's
-/// scene_linear role) to XYZ and the RGB frame of its exact table (io/render_table.h).
+/// scene_linear role) to XYZ and the RGB frame of its exact table (pipeline/render_table.h).
 /// UsageError for a mistake. Cost: parsing the config, ~ms.
 struct ColourInputs {
   SpectralizerSettings settings;

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "spectralize/core/error.h"
-#include "io/colour_space.h"
-#include "io/image_job.h"
-#include "io/job_settings.h"
-#include "io/safe_output.h"
+#include "colour/colour_space.h"
+#include "pipeline/image_job.h"
+#include "pipeline/job_settings.h"
+#include "imagefile/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 
@@ -21,7 +21,7 @@ namespace spectralize::tool {
 namespace {
 
 // The report's destination, checked (and its temporary file created) before any work: never
-// the input, its config or the output under any alias (the run's registry, io/safe_output.h:
+// the input, its config or the output under any alias (the run's registry, imagefile/safe_output.h:
 // the output is claimed as soon as its job opens it, and the report is claimed here, first);
 // /dev/stdout and /dev/null work as streams.
 std::unique_ptr<AtomicOutput> open_report(const Options& opt, const std::string& input) {

@@ -8,10 +8,10 @@
 #include <string>
 
 #include "spectralize/core/error.h"
-#include "io/ingest.h"
-#include "io/job_settings.h"
-#include "io/safe_output.h"
-#include "io/shard.h"
+#include "ingest/ingest.h"
+#include "pipeline/job_settings.h"
+#include "imagefile/safe_output.h"
+#include "ingest/shard.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "io/safe_output.h"
-#include "io/spectrum_plot.h"
+#include "imagefile/safe_output.h"
+#include "plot/spectrum_plot.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 #include "spectralize/version.h"

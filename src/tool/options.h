@@ -1,12 +1,12 @@
 #pragma once
 // The command line of spectralize, parsed: which command, its inputs and outputs, and the
-// settings (validated by the schema, io/settings.h). Each mistake is a UsageError (exit 2).
+// settings (validated by the schema, settings/settings.h). Each mistake is a UsageError (exit 2).
 
 #include <set>
 #include <string>
 #include <vector>
 
-#include "io/settings.h"
+#include "settings/settings.h"
 
 namespace spectralize::tool {
 
@@ -50,7 +50,7 @@ int run_to_rgb(const Options& options);
 int run_image(const Options& options);
 
 /// Runs `spectralize --color R,G,B ... -o PLOT.png|.svg`: the spectra drawn as a plot (see
-/// io/spectrum_plot.h). Returns the exit status; throws UsageError / Error. Cost: one exact
+/// plot/spectrum_plot.h). Returns the exit status; throws UsageError / Error. Cost: one exact
 /// solve per colour plus the drawing, ~0.2 s.
 int run_plot_color(const Options& options);
 

@@ -1,5 +1,5 @@
 // Plots: `spectralize --color R,G,B ... -o PLOT.png|.svg` and `spectralize --plot-pixel X,Y
-// IN.exr -o PLOT.png|.svg`. The drawing is io/spectrum_plot; this file gathers the spectra, the
+// IN.exr -o PLOT.png|.svg`. The drawing is plot/spectrum_plot; this file gathers the spectra, the
 // title and the swatches (the colour before and after the round trip, through OCIO).
 
 #include <OpenImageIO/imageio.h>
@@ -14,11 +14,11 @@
 
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "io/colour_space.h"
-#include "io/image_input.h"
-#include "io/rgb_from_spectral.h"
-#include "io/safe_output.h"
-#include "io/spectrum_plot.h"
+#include "colour/colour_space.h"
+#include "imagefile/image_reader.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "imagefile/safe_output.h"
+#include "plot/spectrum_plot.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 
@@ -29,7 +29,7 @@ namespace spectralize::tool {
 namespace {
 
 // Display colours of the swatches: CIE XYZ (D65) -> the config's display-referred space
-// (io/spectrum_plot.h's PlotSpaces: its roles, not fixed names) by OCIO. Colours brighter than
+// (plot/spectrum_plot.h's PlotSpaces: its roles, not fixed names) by OCIO. Colours brighter than
 // display white (HDR lights) are scaled down first, by the factor that brings the colour's
 // largest component in the config's scene_linear space to 1, the same for both swatches of a
 // curve so they stay comparable.

@@ -1,4 +1,4 @@
-// spectralize table -o NAME.spztab: the render-time table of a colour space (io/render_table.h).
+// spectralize table -o NAME.spztab: the render-time table of a colour space (pipeline/render_table.h).
 
 #include <fmt/core.h>
 
@@ -6,8 +6,8 @@
 #include <string>
 
 #include "spectralize/core/error.h"
-#include "io/render_table.h"
-#include "io/safe_output.h"
+#include "pipeline/render_table.h"
+#include "imagefile/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

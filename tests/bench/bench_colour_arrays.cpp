@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/spectral_table.h"
-#include "io/colour_array.h"
-#include "io/table_pool.h"
+#include "pipeline/colour_array.h"
+#include "pipeline/table_pool.h"
 
 using namespace spectralize;
 

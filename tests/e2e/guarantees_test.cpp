@@ -22,7 +22,7 @@
 #include <set>
 
 #include "exr_support.h"
-#include "io/settings.h"
+#include "settings/settings.h"
 
 namespace fs = std::filesystem;
 using e2e::run;

@@ -8,7 +8,7 @@
 #include <map>
 
 #include "cli_support.h"
-#include "io/settings.h"
+#include "settings/settings.h"
 
 namespace {
 

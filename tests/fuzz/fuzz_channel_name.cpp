@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "io/spectral_layout.h"
+#include "imagefile/spectral_channel.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string name(reinterpret_cast<const char*>(data), size);

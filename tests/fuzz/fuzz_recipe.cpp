@@ -5,7 +5,7 @@
 #include <string>
 
 #include "spectralize/core/error.h"
-#include "io/recipe.h"
+#include "settings/recipe.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -1,4 +1,4 @@
-"""ingest(shard=...) and `spectralize ingest --shard` share one parser (io/shard.h): the same
+"""ingest(shard=...) and `spectralize ingest --shard` share one parser (ingest/shard.h): the same
 specs are refused by both, before any work."""
 import os
 import subprocess

@@ -1,8 +1,8 @@
 // Chromaticities matched up to chromatic adaptation, and interop IDs that say whether a space is
-// scene- or display-referred (io/colour_space.h). Oracles: the sRGB ICC profile's published
+// scene- or display-referred (colour/colour_space.h). Oracles: the sRGB ICC profile's published
 // D50-adapted colorants, the standards' primaries, and the ACES CG config's own definitions.
 
-#include "io/colour_space.h"
+#include "colour/colour_space.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// The scanline OpenEXR reader (io/exr_scanline_reader.h): the same samples OIIO reads, for every
+// The scanline OpenEXR reader (imagefile/exr_scanline_reader.h): the same samples OIIO reads, for every
 // compression and sample type, in strips of any height and any channel order, with a data window
 // off the origin; the decoded chunks it keeps within its budget; files it does not take.
 
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "io/exr_scanline_reader.h"
+#include "imagefile/exr_scanline_reader.h"
 
 namespace fs = std::filesystem;
 

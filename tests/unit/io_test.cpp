@@ -14,13 +14,13 @@
 
 #include "spectralize/core/error.h"
 #include "core/spectral_table.h"
-#include "io/colour_space.h"
-#include "io/colour_tags.h"
-#include "io/input_interpretation.h"
-#include "io/recipe.h"
-#include "io/rgb_from_spectral.h"
-#include "io/safe_output.h"
-#include "io/table_cache.h"
+#include "colour/colour_space.h"
+#include "colour/colour_tags.h"
+#include "classify/input_interpretation.h"
+#include "settings/recipe.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "imagefile/safe_output.h"
+#include "pipeline/table_cache.h"
 
 namespace fs = std::filesystem;
 

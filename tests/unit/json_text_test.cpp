@@ -1,7 +1,7 @@
-// Names in JSON (io/json_text.h): UTF-8 checked by RFC 3629's table, stray bytes escaped
+// Names in JSON (text/json_text.h): UTF-8 checked by RFC 3629's table, stray bytes escaped
 // readably, base64 by RFC 4648's test vectors, and a record that round-trips any bytes.
 
-#include "io/json_text.h"
+#include "text/json_text.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// Light or surface (io/light_or_surface.h): the order of the clues, decided by hand for each
+// Light or surface (classify/light_or_surface.h): the order of the clues, decided by hand for each
 // combination, and the brightest pixel of generated images read back by the real reader.
 
-#include "io/light_or_surface.h"
+#include "classify/light_or_surface.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 
 #include <filesystem>
 
-#include "io/input_interpretation.h"
+#include "classify/input_interpretation.h"
 
 namespace spectralize {
 namespace {

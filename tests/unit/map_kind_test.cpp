@@ -1,9 +1,9 @@
-// The name table (io/map_kind.h) against a hand-written table of what a TD would say each file
+// The name table (settings/map_kind.h) against a hand-written table of what a TD would say each file
 // holds: the conventions of Unreal, Unity, Substance, Megascans, USD, MaterialX and Arnold, and
 // names that only look like them (normandy_beach, armchair, eye_r, wood_light). The README's
 // table is checked against the code's, word for word.
 
-#include "io/map_kind.h"
+#include "settings/map_kind.h"
 
 #include <gtest/gtest.h>
 

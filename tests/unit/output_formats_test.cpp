@@ -1,4 +1,4 @@
-// The output formats table (io/output_formats.h) against what OIIO's writers really do on this
+// The output formats table (imagefile/output_formats.h) against what OIIO's writers really do on this
 // machine: every stated fact is checked by writing files with OIIO and reading them back
 // (sample types kept, alpha kept, real tiles, compressions honoured and their defaults, the
 // reasons for refusals), and check_output refuses what a format cannot hold, naming the format
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "io/output_formats.h"
+#include "imagefile/output_formats.h"
 
 namespace fs = std::filesystem;
 

@@ -1,8 +1,8 @@
-// Same-stem siblings (io/same_stem.h): files written here with the header maketx writes
+// Same-stem siblings (ingest/same_stem.h): files written here with the header maketx writes
 // ("Software: OpenImageIO 2.4.7.1 : maketx a.tif -o a.tx", as stock maketx 2.4 wrote it when
 // this test was made) and without; the expected decisions are written by hand.
 
-#include "io/same_stem.h"
+#include "ingest/same_stem.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

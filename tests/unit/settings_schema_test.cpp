@@ -1,4 +1,4 @@
-// The settings schema (io/settings.h) against independent truths: for every setting, a value
+// The settings schema (settings/settings.h) against independent truths: for every setting, a value
 // that changes the spectra (found by computing spectra, not by asking the schema) must change
 // the node cache's key and show in the report's settings and the EXR attributes; every setting
 // refuses an empty value and its own invalid example; canonical texts parse back to themselves.
@@ -14,9 +14,9 @@
 #include "core/spectral_table.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralize/core/spectrum_model.h"
-#include "io/colour_space.h"
-#include "io/settings.h"
-#include "io/spectral_image_layout.h"
+#include "colour/colour_space.h"
+#include "settings/settings.h"
+#include "pipeline/spectral_image_layout.h"
 
 namespace spectralize {
 namespace {

@@ -1,7 +1,7 @@
-// The one parser of shard specs, Slurm's array variables and manifest part names (io/shard.h),
+// The one parser of shard specs, Slurm's array variables and manifest part names (ingest/shard.h),
 // against what a farm can hand it: every slip refused, every array shape placed or refused.
 
-#include "io/shard.h"
+#include "ingest/shard.h"
 
 #include <gtest/gtest.h>
 

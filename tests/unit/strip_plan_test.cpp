@@ -1,4 +1,4 @@
-// The strip plan of the streamed jobs (io/strip_plan.h): whole compression blocks, enough
+// The strip plan of the streamed jobs (imagefile/strip_plan.h): whole compression blocks, enough
 // blocks per write for every compression worker, memory bounded; checked
 // over widths from 1K to 64K, 81 and 401 bands, every OpenEXR block height, 1 to 16 workers.
 
@@ -6,7 +6,7 @@
 
 #include <numeric>
 
-#include "io/strip_plan.h"
+#include "imagefile/strip_plan.h"
 
 namespace spectralize {
 namespace {

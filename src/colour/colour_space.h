@@ -1,0 +1,141 @@
+#pragma once
+// Colour spaces by name, converted to CIE XYZ (D65) through an OpenColorIO config. The OCIO
+// headers stay in colour_space.cpp; callers see only names and float RGB.
+
+#include <array>
+#include <initializer_list>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "spectralize/core/xyz.h"
+#include "colour/icc_profile.h"
+
+namespace spectralize {
+
+/// A conversion between two colour spaces by OCIO (in float). Copyable, thread-safe to apply.
+class ColourTransform {
+ public:
+  /// Converts `pixels` packed triples in place. Cost: O(pixels).
+  void apply(float* rgb, std::size_t pixels) const;
+  /// Converts one colour. Cost: O(1) plus OCIO overhead.
+  Xyz operator()(double r, double g, double b) const;
+  /// Canonical name of the colour space on the RGB side. Cost: O(1).
+  const std::string& source() const { return source_; }
+
+ private:
+  friend class ColourSpaces;
+  std::shared_ptr<const void> processor_;  // OCIO::ConstCPUProcessorRcPtr, type-erased
+  std::string source_;
+};
+
+class ColourSpaces {
+ public:
+  /// Loads the config: `explicit_path` if non-empty, else $OCIO if set, else the config shipped
+  /// with spectralize (embedded). The file must be a regular file (a FIFO would block). Throws
+  /// Error naming the file and OCIO's reason. Cost: reading the file; the parse (~ms) only the
+  /// first time the process meets these bytes at this location.
+  static ColourSpaces load(const std::string& explicit_path = "");
+
+  /// Where the config came from, for reports: "shipped", "$OCIO (path)" or the path. Cost: O(1).
+  const std::string& origin() const { return origin_; }
+  /// True for the config shipped with spectralize. Cost: O(1).
+  bool shipped() const { return origin_ == "shipped"; }
+  /// The files the config's transforms read (FileTransform LUTs: as written, and where the
+  /// config's search path finds them, "" when it does not). Cost: a walk of every transform.
+  std::vector<std::pair<std::string, std::string>> referenced_files() const;
+  /// What the config is, by content: a hash of the config file's bytes and of every file its
+  /// transforms read, so that one config reached by a relative path, an absolute path or a link
+  /// (or copied to another machine) is the same config. Cost: reading those files.
+  std::string content_identity() const;
+  /// The canonical name of the space a role names, or "" when the config has no such role.
+  /// Cost: O(1).
+  std::string role(std::string_view role) const;
+  /// The canonical name of the space of the first of `roles` the config has, else of the first
+  /// of `names` (the shipped config's, for configs without those roles) it knows; throws
+  /// ConfigError naming the config, the missing roles and `purpose`. Cost: O(roles + names).
+  std::string role_or_name(std::initializer_list<std::string_view> roles,
+                           std::initializer_list<std::string_view> names,
+                           std::string_view purpose) const;
+  /// The space the config's file rules give `path` and the rule's name, or {"", ""} when only
+  /// the default rule matches. Cost: O(rules).
+  std::pair<std::string, std::string> file_rule(const std::string& path) const;
+  /// True when the config marks the space as data (not colour). Cost: O(1).
+  bool is_data(std::string_view space) const;
+  /// True when the space's conversion to XYZ is linear (tested on colours: OCIO 2.1 cannot tell).
+  /// Cost: an OCIO processor.
+  bool is_linear(std::string_view space) const;
+  /// The CIE xy of the space's red, green and blue primaries and of its white (what an OpenEXR
+  /// `chromaticities` attribute holds): the standard's own for a known space (ACEScg: the ACES
+  /// white), else derived through OCIO (in the config's reference white); nullopt for data.
+  /// Cost: an OCIO processor.
+  std::optional<std::array<float, 8>> chromaticities(std::string_view space) const;
+  /// The space's transfer function when it is one an ICC profile states exactly: linear, the
+  /// sRGB curve or a pure gamma (2.2, 563/256, 2.4, 1.8, 2.6), measured on greys through OCIO;
+  /// nullopt otherwise (log, PQ, data). Cost: an OCIO processor.
+  std::optional<IccTransfer> transfer(std::string_view space) const;
+  /// The colour interop ID (e.g. "lin_ap1_scene") of a space whose primaries, white and
+  /// encoding match a known one, or "": "<curve>_<primaries>_scene", or "..._display" for a
+  /// display-referred space (what an OCIO display's view writes, e.g. "srgb_rec709_display").
+  /// Cost: a few OCIO processors.
+  std::string interop_id(std::string_view space) const;
+  /// True when the config defines the space by its display reference (the output of a
+  /// display's view, e.g. ACES configs' "sRGB - Display"). Cost: O(1).
+  bool is_display_referred(std::string_view space) const;
+  /// The primaries and white as CIE xy as XYZ-D65 sees them (after the config's adaptation of
+  /// the space's white to D65), what a file's adapted chromaticities are compared with;
+  /// nullopt for data or a space without RGB primaries. Cost: an OCIO processor.
+  std::optional<std::array<float, 8>> primaries_d65(std::string_view space) const;
+  /// The canonical name of a colour space given by name, alias or role (case-insensitive);
+  /// throws Error listing the valid names. Cost: O(spaces).
+  std::string resolve(std::string_view name) const;
+  /// Every colour-space name (canonical). Cost: O(spaces).
+  std::vector<std::string> names() const;
+  /// Every colour-space name with its aliases, "Name (alias1, alias2)". Cost: O(spaces).
+  std::vector<std::string> describe() const;
+  /// A converter from `space` to CIE-XYZ-D65: to the config's XYZ space (the
+  /// cie_xyz_d65_interchange role, or a space of a known name), else to its ACES2065-1 space and
+  /// on by OCIO's built-in Bradford transform (classic v1 ACES configs); throws Error for unknown
+  /// spaces or configs without any of them. Cost: OCIO processor build, ~ms (cached by OCIO).
+  ColourTransform to_xyz(std::string_view space) const;
+  /// A converter from CIE-XYZ-D65 to `space`; throws Error as to_xyz. Cost: as to_xyz.
+  ColourTransform from_xyz(std::string_view space) const;
+  /// A converter from CIE-XYZ-D65 to an OCIO display and view (the display's default view when
+  /// `view` is empty); throws Error naming the valid displays or views. Cost: as to_xyz.
+  ColourTransform display_from_xyz(const std::string& display, const std::string& view) const;
+  /// The colour space a display's view ends in (to tag files), or "" if the config does not
+  /// name one. Cost: O(1).
+  std::string display_colour_space(const std::string& display, const std::string& view) const;
+
+ private:
+  ColourTransform transform(std::string_view space, bool to_xyz) const;
+  std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
+  std::string origin_;
+  std::string file_;  // the config file ("" : the shipped one)
+};
+
+/// Chromaticities that are the same primaries: the largest difference in CIE xy of any of the
+/// eight numbers, after adapting both whites to D65 (docs/DESIGN.md §9).
+inline constexpr double kChromaticityTolerance = 2e-3;
+
+/// `xy` (red, green, blue, white as CIE xy) with the white Bradford-adapted to D65 and the
+/// primaries with it: the primaries as a D65-referred config sees them (Rec.709 primaries
+/// adapted to D50, as Photoshop writes them, give Rec.709 back). Cost: O(1).
+std::array<float, 8> adapt_chromaticities_to_d65(const float* xy);
+
+/// The largest |a[i] - b[i]| of two sets of eight chromaticities. Cost: O(1).
+double chromaticity_difference(const float* a, const float* b);
+
+/// The linear interop ID of a file's chromaticities (red, green, blue, white xy) when, adapted
+/// to D65, they are a known standard's (Rec.709, Rec.2020, P3-D65, Adobe RGB, AP1, AP0, XYZ)
+/// within kChromaticityTolerance, else "". Cost: O(1).
+std::string interop_id_of_chromaticities(const float* xy);
+
+/// Name of the shipped default linear space (scene_linear of the shipped config). Cost: O(1).
+inline constexpr std::string_view kDefaultColourSpace = "Linear Rec.709 (sRGB)";
+
+}  // namespace spectralize

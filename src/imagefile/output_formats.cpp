@@ -1,0 +1,362 @@
+#include "imagefile/output_formats.h"
+
+#include <algorithm>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "spectralize/core/error.h"
+#include "imagefile/safe_output.h"
+
+namespace spectralize {
+
+namespace {
+
+using Slot = ColourSlot;
+
+// The stated facts about OIIO 2.4's writers, each checked by the unit test against files OIIO
+// writes and reads back (tests/unit/output_formats_test.cpp). Samples: the types a file keeps
+// as given (others are converted by the writer: uint16 to uint8, half to float, ...).
+std::vector<OutputFormat> stated_facts() {
+  const CompressionChoice zip9{"zip", 1, 9}, dwaa{"dwaa", 0, 0, true, true},
+      dwab{"dwab", 0, 0, true, true};
+  std::vector<OutputFormat> t;
+  auto add = [&](OutputFormat f) { t.push_back(std::move(f)); };
+  {
+    OutputFormat f{"openexr", "OpenEXR", ".exr", {"half", "float"}};
+    f.compressions = {{"none"},
+                      {"rle"},
+                      {"zips", 1, 9},
+                      zip9,
+                      {"piz"},
+                      {"pxr24", 0, 0, false, true},
+                      {"b44", 0, 0, false, true},
+                      {"b44a", 0, 0, false, true},
+                      dwaa,
+                      dwab};
+    f.default_compression = "zip";
+    f.colour = Slot::attributes;
+    f.tile_multiple = 1;
+    f.max_tile_bytes = INT_MAX;  // OpenEXR refuses a tile of more uncompressed bytes
+    add(f);
+  }
+  {
+    OutputFormat f{"tiff", "TIFF", ".tif", {"uint8", "uint16", "float"}};
+    // "jpeg" is left out: lossy, 8-bit 3-channel only, and silently zip for float samples.
+    f.compressions = {{"none"}, {"lzw"}, zip9, {"packbits"}};
+    f.default_compression = "zip";
+    f.colour = Slot::icc_profile;
+    f.tile_multiple = 16;  // libtiff's rule
+    add(f);
+  }
+  {
+    OutputFormat f{"png", "PNG", ".png", {"uint8", "uint16"}};
+    f.compressions = {{"zip", 0, 9}};  // deflate level, png:compressionLevel (always lossless)
+    f.default_compression = "zip:6";
+    f.colour = Slot::icc_profile;
+    add(f);
+  }
+  {
+    OutputFormat f{"jpeg", "JPEG", ".jpg", {"uint8"}};
+    f.compressions = {{"jpeg", 1, 100, false, true}};  // quality
+    f.default_compression = "jpeg:98";
+    f.colour = Slot::icc_profile;
+    add(f);
+  }
+  {
+    OutputFormat f{"hdr", "Radiance HDR", ".hdr", {"float"}};  // RGBE: 8-bit mantissas
+    f.default_compression = "rle";
+    f.colour = Slot::linear_rec709;
+    add(f);
+  }
+  {
+    OutputFormat f{"webp", "WebP", ".webp", {"uint8"}};
+    f.compressions = {{"webp", 1, 100, false, true}};  // quality; always lossy through OIIO 2.4
+    f.default_compression = "webp:100";
+    add(f);
+  }
+  {
+    OutputFormat f{"heif", "HEIF", ".heic", {"uint8"}};
+    f.compressions = {{"heic", 1, 100, false, true}, {"avif", 1, 100, false, true}};
+    f.default_compression = "heic:50";  // unasked; "heic" alone is 75
+    add(f);
+  }
+  add(OutputFormat{"dpx", "DPX", ".dpx", {"uint8", "uint16", "float"}, {}, "none"});
+  add(OutputFormat{"targa", "Targa", ".tga", {"uint8"}, {{"none"}, {"rle"}}, "none"});
+  add(OutputFormat{"bmp", "BMP", ".bmp", {"uint8"}, {}, "none"});
+  add(OutputFormat{"sgi", "SGI", ".sgi", {"uint8", "uint16"}, {}, "none"});
+  add(OutputFormat{"rla", "RLA", ".rla", {"uint8", "uint16", "float"}, {}, "rle"});
+  add(OutputFormat{"fits", "FITS", ".fits", {"uint8", "float"}, {}, "none"});
+  add(OutputFormat{"pnm", "PNM", ".ppm", {"uint8"}, {}, "none"});
+  // Written by OIIO, not by spectralize: what they store is not what was asked.
+  const auto refuse = [&](std::string_view name, std::string_view label, std::string_view why) {
+    OutputFormat f{name, label};
+    f.refused = why;
+    add(f);
+  };
+  refuse("gif", "GIF",
+         "stores a palette of at most 256 colours, and always four channels; write .png");
+  refuse("ico", "ICO", "holds icons (8-bit RGBA, at most 256 x 256 pixels); write .png");
+  refuse("jpeg2000", "JPEG 2000",
+         "files written by OIIO 2.4 do not read back when small (16 x 16 pixels) and lose "
+         "alpha; "
+         "write .png or .tif");
+  refuse("iff", "IFF",
+         "files are written by OIIO 2.4 in tiles only (its writer refuses scanlines); write "
+         ".tif");
+  refuse("zfile", "Zfile", "holds one depth channel, not colour; write .exr");
+  refuse("null", "null", "writes nothing; write .exr");
+  refuse("term", "term", "draws on a terminal, it writes no file; write .png");
+  return t;
+}
+
+// What this OIIO build says about each format: whether it writes it at all, tiles, alpha,
+// proxies (each combined with the facts: WebP's "tiles" are emulated, TIFF's proxy writes
+// leave unreadable files).
+std::vector<OutputFormat> build() {
+  std::vector<OutputFormat> t = stated_facts();
+  std::string list;
+  OIIO::getattribute("output_format_list", list);
+  std::set<std::string> writes;
+  for (const auto& name : OIIO::Strutil::splits(list, ",")) writes.insert(name);
+  for (OutputFormat& f : t) {
+    f.available = writes.count(std::string(f.name)) > 0;
+    if (!f.available) continue;
+    auto out = OIIO::ImageOutput::create(std::string(f.name));
+    if (!out) {
+      (void)OIIO::geterror();
+      f.available = false;
+      continue;
+    }
+    // JPEG drops a fourth channel; FITS keeps it, but not as alpha.
+    f.alpha = out->supports("alpha") && f.name != "jpeg" && f.name != "fits";
+    f.tiles = out->supports("tiles") && (f.name == "openexr" || f.name == "tiff");
+    f.proxy = out->supports("ioproxy") &&
+              (f.name == "openexr" || f.name == "png" || f.name == "jpeg" || f.name == "hdr");
+  }
+  return t;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// "NAME" or "NAME:LEVEL" -> (NAME, LEVEL text).
+std::pair<std::string, std::string> split(const std::string& text) {
+  const auto colon = text.find(':');
+  return {text.substr(0, colon), colon == std::string::npos ? "" : text.substr(colon + 1)};
+}
+
+// The formats (of the usual ones) that store `type`, for advice: ".exr, .tif".
+std::string holders(std::string_view type) {
+  std::string out;
+  for (const OutputFormat& f : output_formats())
+    if (f.available && f.refused.empty() && f.holds(type) &&
+        (f.name == "openexr" || f.name == "tiff" || f.name == "png" || f.name == "hdr"))
+      out += (out.empty() ? "" : ", ") + std::string(f.extension);
+  return out;
+}
+
+// An option as the caller's users write it: "--tile 2048" on the command line (prefix "--"),
+// "tile=2048" / "format='uint8'" in Python (prefix ""); `value` empty: the option alone.
+std::string spelled(const std::string& prefix, const std::string& key, const std::string& value,
+                    bool text) {
+  if (!prefix.empty()) return prefix + key + (value.empty() ? "" : " " + value);
+  return key + "=" + (value.empty() ? "" : text ? "'" + value + "'" : value);
+}
+
+}  // namespace
+
+bool OutputFormat::holds(std::string_view type) const {
+  return std::find(samples.begin(), samples.end(), type) != samples.end();
+}
+
+std::string OutputFormat::compression_names() const {
+  std::string out;
+  for (const CompressionChoice& c : compressions) {
+    out += (out.empty() ? "" : ", ") + std::string(c.name);
+    if (c.max_level > 0)
+      out += "[:" + std::to_string(c.min_level) + "-" + std::to_string(c.max_level) + "]";
+    if (c.quality) out += "[:QUALITY]";
+  }
+  return out;
+}
+
+const std::vector<OutputFormat>& output_formats() {
+  static const std::vector<OutputFormat> table = build();
+  return table;
+}
+
+const OutputFormat* output_format_named(std::string_view name) {
+  for (const OutputFormat& f : output_formats())
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+const OutputFormat* output_format_for(const std::string& path) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) {
+    (void)OIIO::geterror();
+    return nullptr;
+  }
+  return output_format_named(out->format_name());
+}
+
+std::string sample_type_name(OIIO::TypeDesc type) {
+  if (type == OIIO::TypeUInt8) return "uint8";
+  if (type == OIIO::TypeUInt16) return "uint16";
+  if (type == OIIO::TypeHalf) return "half";
+  if (type == OIIO::TypeFloat) return "float";
+  return type.c_str();
+}
+
+const OutputFormat& check_output(const std::string& path, const OutputRequest& r,
+                                 const std::string& prefix) {
+  // Appended, not "'" + clip(...): GCC 12 sees a bogus overflow in operator+(const char*, &&).
+  std::string where(1, '\'');
+  where.append(clip(path, 200)).append("': ");
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  auto writer = OIIO::ImageOutput::create(path);
+  if (!writer) {
+    (void)OIIO::geterror();
+    throw Error(where + "OpenImageIO writes no " +
+                (ext.empty() ? "file without an extension" : "'" + clip(ext) + "' file") +
+                "; write .exr, .tif, .png, .jpg or .hdr");
+  }
+  const OutputFormat* found = output_format_named(writer->format_name());
+  if (!found)
+    throw Error(where + "the " + writer->format_name() +
+                " format is not one spectralize knows what it stores; write .exr, .tif or .png");
+  check_format(*found, r, where, prefix);
+  return *found;
+}
+
+void check_format(const OutputFormat& f, const OutputRequest& r, const std::string& where,
+                  const std::string& prefix) {
+  const std::string name(f.label);
+  if (!f.available)
+    throw Error(where + "this OpenImageIO writes no " + name + " files; write .exr or .png");
+  if (!f.refused.empty()) throw Error(where + name + " " + std::string(f.refused));
+  if (!f.holds(r.samples)) {
+    std::string kept;
+    for (std::string_view s : f.samples) kept += (kept.empty() ? "" : " or ") + std::string(s);
+    // The nearest type it holds: half <-> float, uint16 <-> uint8.
+    std::string_view nearest = f.samples.front();
+    for (const auto& [want, near] : {std::pair{"half", "float"}, std::pair{"float", "half"},
+                                     std::pair{"uint16", "uint8"}, std::pair{"uint8", "uint16"}})
+      if (r.samples == want && f.holds(near)) nearest = near;
+    const std::string others = holders(r.samples);
+    throw Error(where + name + " stores " + kept + " samples, not " + r.samples + ": use " +
+                spelled(prefix, "format", std::string(nearest), true) +
+                (others.empty() ? "" : ", or write " + others + " for " + r.samples));
+  }
+  if (r.channels > 4 && f.name != "openexr")
+    throw Error(where + name + " holds RGB or RGBA, not " + std::to_string(r.channels) +
+                " channels; spectral images are OpenEXR (.exr)");
+  if (r.alpha && !f.alpha)
+    throw Error(where + name +
+                " has no alpha channel and the image has one: write .png, .tif or .exr to keep "
+                "it");
+  if (f.name == "hdr" && r.channels != 3)
+    throw Error(where + name + " holds exactly three channels (RGB); write .exr");
+  // The format's own default is always what it does (Radiance HDR: rle, whatever is asked).
+  if (!r.compression.empty() && r.compression != f.default_compression) {
+    const auto [cname, level] = split(r.compression);
+    const auto c = std::find_if(f.compressions.begin(), f.compressions.end(),
+                                [&](const CompressionChoice& x) { return x.name == cname; });
+    if (c == f.compressions.end())
+      throw Error(where + spelled(prefix, "compression", clip(r.compression), true) + ": " + name +
+                  (f.compressions.empty()
+                       ? " has no compression to choose (it writes " +
+                             std::string(f.default_compression) + "); leave out " +
+                             spelled(prefix, "compression", "", true)
+                       : " takes " + f.compression_names()));
+    if (!level.empty()) {
+      bool ok = false;
+      if (c->quality) {
+        double q = 0;
+        const auto res = std::from_chars(level.data(), level.data() + level.size(), q);
+        ok = res.ec == std::errc() && res.ptr == level.data() + level.size() && q > 0 &&
+             std::isfinite(q);
+      } else if (c->max_level > 0) {
+        int v = 0;
+        const auto res = std::from_chars(level.data(), level.data() + level.size(), v);
+        ok = res.ec == std::errc() && res.ptr == level.data() + level.size() && v >= c->min_level &&
+             v <= c->max_level;
+      }
+      if (!ok)
+        throw Error(where + spelled(prefix, "compression", clip(r.compression), true) + ": " +
+                    name + " takes " + f.compression_names());
+    }
+  }
+  if (r.tile_width > 0) {
+    if (!f.tiles)
+      throw Error(where + name + " files are not tiled (tiles: .exr, .tif); leave out " +
+                  spelled(prefix, "tile", "", false));
+    if (r.tile_width % f.tile_multiple || r.tile_height % f.tile_multiple)
+      throw Error(where + name + " tiles are multiples of " + std::to_string(f.tile_multiple) +
+                  " pixels, not " + std::to_string(r.tile_width) + "x" +
+                  std::to_string(r.tile_height));
+    const std::int64_t sample = r.samples == "half" || r.samples == "uint16" ? 2
+                                : r.samples == "uint8"                       ? 1
+                                                                             : 4;
+    const std::int64_t bytes =
+        static_cast<std::int64_t>(r.tile_width) * r.tile_height * r.channels * sample;
+    if (f.max_tile_bytes > 0 && bytes > f.max_tile_bytes) {
+      // The largest power-of-two square tile that fits.
+      int side = 16;
+      while (static_cast<std::int64_t>(side) * 2 * side * 2 * r.channels * sample <=
+             f.max_tile_bytes)
+        side *= 2;
+      throw Error(where + "a tile of " + std::to_string(r.tile_width) + "x" +
+                  std::to_string(r.tile_height) + " pixels of " + std::to_string(r.channels) + " " +
+                  r.samples + " channels takes " + std::to_string(bytes >> 20) + " MB, and " +
+                  name + " holds at most 2 GB per tile: use " +
+                  spelled(prefix, "tile", std::to_string(side), false) + " or less");
+    }
+  }
+}
+
+void apply_compression(OIIO::ImageSpec& spec, const OutputFormat& f,
+                       const std::string& compression) {
+  spec.erase_attribute("compression");
+  const std::string text = compression.empty() ? std::string(f.default_compression) : compression;
+  const auto [name, level] = split(text);
+  if (f.name == "png") {
+    // OIIO 2.4's PNG writer ignores "compression": the deflate level is png:compressionLevel.
+    spec.attribute("png:compressionLevel", level.empty() ? 6 : std::stoi(level));
+  } else if (f.name == "tiff") {
+    spec.attribute("compression", name);
+    if (name == "zip") spec.attribute("tiff:zipquality", level.empty() ? 6 : std::stoi(level));
+  } else if (!f.compressions.empty()) {
+    spec.attribute("compression", text);  // OpenEXR, JPEG, WebP, HEIF, Targa: NAME[:LEVEL]
+  }
+}
+
+std::vector<std::string_view> all_compression_names() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> out;
+    for (const OutputFormat& f : stated_facts())
+      for (const CompressionChoice& c : f.compressions)
+        if (std::find(out.begin(), out.end(), c.name) == out.end()) out.push_back(c.name);
+    return out;
+  }();
+  return names;
+}
+
+bool compression_level_range(std::string_view name, int& min_level, int& max_level) {
+  bool any = false;
+  for (const OutputFormat& f : stated_facts())
+    for (const CompressionChoice& c : f.compressions)
+      if (c.name == name && c.max_level > 0) {
+        min_level = any ? std::min(min_level, c.min_level) : c.min_level;
+        max_level = any ? std::max(max_level, c.max_level) : c.max_level;
+        any = true;
+      }
+  return any;
+}
+
+}  // namespace spectralize

@@ -1,0 +1,389 @@
+#include "ingest/ingest.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "spectralize/core/error.h"
+#include "colour/colour_space.h"
+#include "imagefile/exr_header.h"
+#include "pipeline/image_conversion.h"
+#include "imagefile/image_reader.h"
+#include "pipeline/image_job.h"
+#include "ingest/ingest_manifest.h"
+#include "classify/input_interpretation.h"
+#include "text/json_text.h"
+#include "settings/map_kind.h"
+#include "imagefile/safe_output.h"
+#include "pipeline/table_pool.h"
+#include "spectralize/version.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kKeyAttribute = "spectralize:ingestKey";
+constexpr const char* kRequestKeyAttribute = "spectralize:ingestRequest";
+
+std::uint64_t fnv1a(std::string_view s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+std::string hex(std::uint64_t v) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%016" PRIx64, v);
+  return buf;
+}
+
+std::string quoted_path(const std::string& p) {
+  return quote(p, 200);
+}
+
+// What identifies an output's input apart from the settings: the version, the input by its
+// place in its source tree (what the output mirrors: the same on every machine that mounts the
+// library elsewhere), its size and modification time, and the config by its content.
+std::string key_prefix(const IngestItem& item, const struct stat& st, const std::string& config) {
+  return "spectralize " SPECTRALIZE_VERSION "|" + item.source_relative + "|" +
+         std::to_string(st.st_size) + "|" + std::to_string(st.st_mtim.tv_sec) + "." +
+         std::to_string(st.st_mtim.tv_nsec) + "|" + config;
+}
+
+// The up-to-date key: the prefix and every setting that shapes the file, as resolved for it
+// (its colour space and mode as interpret_colour and decide_light_or_surface decided them, by
+// the name table in force), from the same list its header records (file_settings). So a
+// changed name table or rule redoes exactly the files it decides otherwise; one that only
+// restates a decision (--colorspace naming the space a file was decided in) keeps the file.
+std::string ingest_key(const std::string& prefix, const Settings& resolved) {
+  std::string text = prefix;
+  for (const auto& [spec, value] : file_settings(resolved))
+    text.append("|").append(spec->key).append("=").append(value);
+  return hex(fnv1a(text));
+}
+
+// A memo of the key: everything the decisions and the conversion are made from, as asked (the
+// input as spelt, every setting that is not how the batch runs), so that a rerun of the same
+// request finds an output up to date from its header alone. When it differs, the input is
+// decided again and the key of the settings as resolved says (docs/DESIGN.md §12).
+std::string request_key(const std::string& prefix, const IngestItem& item) {
+  std::string text = prefix + "|" + item.input;
+  // Every value as given (format(), not setting_value()): the mode asked, not resolved, and
+  // settings whose relevance only the resolution decides (the illuminant of a reflectance).
+  for (const SettingSpec& spec : settings_schema())
+    if (spec.applies(kIngest) && spec.key != "threads" && spec.key != "jobs" && spec.key != "cache")
+      text.append("|").append(spec.key).append("=").append(spec.format(item.settings));
+  return hex(fnv1a(text));
+}
+
+// The up-to-date record of an output, from what its header recorded: how it was decided and
+// what its conversion warned about.
+void recorded_decision(Json& r, ExrHeaderValues& recorded, const std::string& input) {
+  r["colorspace"] = recorded.strings["spectralize:colorspace"];
+  r["colorspace_reason"] = recorded.strings["spectralize:colorspaceReason"];
+  r["mode"] = recorded.strings["spectralize:mode"];
+  r["mode_reason"] = recorded.strings["spectralize:modeReason"];
+  const std::vector<std::string> warnings =
+      recorded_warnings(recorded.strings, recorded.doubles, input);
+  if (!warnings.empty()) r["warnings"] = warnings;
+}
+
+// A byte-for-byte copy through an AtomicOutput, with the input's modification time (so a rerun
+// can tell it is up to date).
+void copy_checked(const std::string& input, const std::string& output, const struct stat& st,
+                  const WriteRules& rules) {
+  check_readable_file(input, "input");
+  AtomicOutput out(output, rules, std::span<const std::string>(&input, 1));
+  std::ifstream in(input, std::ios::binary);
+  std::vector<char> buf(1 << 20);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    if (in.gcount() > 0)
+      out.write(std::string_view(buf.data(), static_cast<std::size_t>(in.gcount())));
+  }
+  if (in.bad()) throw FileError(quoted_path(input) + ": cannot read it whole");
+  out.commit();
+  const struct timespec times[2] = {st.st_atim, st.st_mtim};
+  ::utimensat(AT_FDCWD, output.c_str(), times, 0);
+}
+
+bool same_copy(const std::string& output, const struct stat& in) {
+  struct stat st {};
+  return ::stat(output.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == in.st_size &&
+         st.st_mtim.tv_sec == in.st_mtim.tv_sec && st.st_mtim.tv_nsec == in.st_mtim.tv_nsec;
+}
+
+}  // namespace
+
+namespace {
+
+// Thrown through a conversion when the batch is asked to stop.
+struct Interrupted : std::exception {
+  const char* what() const noexcept override { return "interrupted"; }
+};
+
+// What every file of a batch shares.
+struct Batch {
+  const IngestPlan& plan;
+  const LogFn& log;
+  ColourSpaces spaces;  // the config, parsed once
+  ThreadShare share;    // the batch's cores, split between the files converting now
+  TablePool pool;
+  std::atomic<std::uint64_t> stale{0};
+  std::mutex swept_mutex{};
+  std::set<std::string> swept{};            // output folders already cleared of stale temporaries
+  const std::atomic<bool>* stop = nullptr;  // asked to stop (may be null)
+  bool stopping() const { return stop && stop->load(); }
+
+  /// Removes, once per folder, the temporaries killed earlier runs left there (any file's:
+  /// outputs, copies, manifests; a live writer's are locked and stay). Cost: one listing.
+  void sweep(const std::string& folder) {
+    std::lock_guard<std::mutex> lock(swept_mutex);
+    if (swept.insert(folder).second) stale += remove_stale_temporaries(folder);
+  }
+};
+
+// One file: up to date, non-colour data (skipped or copied), converted, or failed; the record.
+Json process(const IngestItem& item, Batch& batch) {
+  const auto start = Clock::now();
+  Json r;
+  put_path(r, "input", item.input);
+  put_path(r, "output", item.output);
+  auto finish = [&](const std::string& status, const std::string& message = "") {
+    r["status"] = status;
+    if (!message.empty()) r["message"] = utf8_escaped(message);
+    r["seconds"] = std::chrono::duration<double>(Clock::now() - start).count();
+    return r;
+  };
+  const bool force = batch.plan.request.force;
+  const std::string& dest = batch.plan.request.destination;
+  try {
+    if (!item.failure.empty()) throw Error(item.failure);
+    if (!item.derived_from.empty()) {  // its source is converted (same_stem.h)
+      put_path(r, "source", item.derived_from);
+      r["reason"] = utf8_escaped(item.note);
+      return finish("derived");
+    }
+    if (!item.note.empty()) r["note"] = utf8_escaped(item.note);
+    check_readable_file(item.input, "input");
+    struct stat st {};
+    ::stat(item.input.c_str(), &st);
+    Settings s = item.settings;
+    const fs::path out(item.output);
+    std::error_code ec;
+    fs::create_directories(out.parent_path(), ec);
+    if (!fs::is_directory(out.parent_path(), ec))
+      throw FileError(quoted_path(item.output) + ": cannot create the folder " +
+                      quoted_path(out.parent_path().string()) +
+                      (ec ? ": " + ec.message() : std::string()));
+    batch.sweep(out.parent_path().string());
+    // Non-colour data: skipped, or copied byte for byte; never spectralized.
+    auto data = [&](const std::string& reason) {
+      r["reason"] = utf8_escaped(reason);
+      r.erase("output");
+      r.erase("output_base64");
+      if (!s.ingest.copy_data) return finish("skipped_data");
+      if (!item.copy_failure.empty()) throw FileError(item.copy_failure);
+      put_path(r, "output", item.copy);
+      if (!force && same_copy(item.copy, st)) return finish("up_to_date");
+      copy_checked(item.input, item.copy, st,
+                   WriteRules::named("the copy of " + quoted_path(item.input))
+                       .below(dest)
+                       .folder_synced_by_caller());
+      return finish("copied_data");
+    };
+    // By the words of its name and folders (map_kind.h), before the file is read.
+    const NameVerdict name =
+        map_kind_by_name(item.input, name_words_in_force(s.data_names, s.colour_names));
+    if (name.kind == MapKind::data) {
+      if (!name.warnings.empty()) r["warnings"] = name.warnings;
+      return data("data by its " + name.reason);
+    }
+    // The same request as made the output: up to date from its header alone.
+    const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
+    const std::string asked = request_key(prefix, item);
+    ExrHeaderValues recorded;
+    if (!force) {
+      recorded = exr_header_values(item.output);
+      if (!recorded.strings[kKeyAttribute].empty() &&
+          recorded.strings[kRequestKeyAttribute] == asked) {
+        recorded_decision(r, recorded, item.input);
+        return finish("up_to_date");
+      }
+    }
+    // Decided once (docs/DESIGN.md §9): data by an ambiguous word settled by the channels or
+    // by a data colour space; else light or surface. The settings as resolved for this file
+    // decide whether its output is up to date, as they decide what the conversion writes into
+    // the header; the conversion takes this decision as it is.
+    InputInterpretation in;
+    {
+      const ImageReader reader(item.input, static_cast<int>(s.spectral.grid.size()) + 4, true);
+      in = interpret_colour(item.input, reader.spec(), s, batch.spaces);
+      if (!in.data_reason.empty()) {
+        if (!in.warnings.empty()) r["warnings"] = in.warnings;
+        return data(in.data_reason);
+      }
+      decide_light_or_surface(in, item.input, reader.spec(), s, batch.spaces);
+    }
+    const std::string key = ingest_key(prefix, resolved_settings(s, in, batch.spaces));
+    // Up to date: the key recorded in the output's header, which also says how the file was
+    // decided and what its conversion warned about.
+    if (!force && recorded.strings[kKeyAttribute] == key) {
+      recorded_decision(r, recorded, item.input);
+      return finish("up_to_date");
+    }
+    ImageJobOptions options;
+    options.shared.pool = &batch.pool;
+    options.shared.spaces = &batch.spaces;
+    options.shared.interpretation = &in;  // converted as decided (and keyed) here
+    options.shared.share = &batch.share;
+    options.output = WriteRules::named("the output of " + quoted_path(item.input))
+                         .below(dest)
+                         .folder_synced_by_caller();
+    options.shared.attributes = [&](const Settings& resolved) {
+      return std::map<std::string, std::string>{{kKeyAttribute, ingest_key(prefix, resolved)},
+                                                {kRequestKeyAttribute, asked},
+                                                {"spectralize:source", item.input}};
+    };
+    const ThreadShare::Running running(batch.share);
+    r["threads"] = batch.share.now();  // at its start; files finishing give theirs later
+    // Between strips: a stop request abandons the conversion (its temporary is removed).
+    const ProgressFn check_stop = [&batch](std::uint64_t, std::uint64_t) {
+      if (batch.stopping()) throw Interrupted();
+    };
+    const ImageReport rep =
+        run_image_job(item.input, item.output, s, check_stop, batch.log, options);
+    r["colorspace"] = rep.colorspace;
+    r["colorspace_reason"] = rep.colorspace_reason;
+    r["mode"] = std::string(to_string(rep.settings.spectral.mode));
+    r["mode_reason"] = rep.mode_reason;
+    r["pixels"] = rep.pixels;
+    r["out_of_gamut_pixels"] = rep.out_of_gamut_pixels();
+    r["invalid_pixels"] = rep.counts.invalid;
+    r["max_relative_xyz_error"] = rep.counts.max_error;
+    if (!rep.warnings.empty()) r["warnings"] = rep.warnings;
+    return finish("converted");
+  } catch (const Interrupted&) {
+    return Json();  // not done: no record, so a rerun does it
+  } catch (const std::exception& e) {
+    return finish("failed", e.what());
+  }
+}
+
+}  // namespace
+
+IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progress, const LogFn& log,
+                         const std::atomic<bool>* stop) {
+  install_cleanup_handlers();
+  const ReadFileScope reads;  // the run's registry: what it reads, what it writes
+  const auto t0 = Clock::now();
+  const Settings& base = plan.request.settings;
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int total_threads = base.threads > 0 ? base.threads : cores;
+  const int files = static_cast<int>(std::max<std::size_t>(1, plan.items.size()));
+  const int jobs = std::max(1, std::min(base.ingest.jobs > 0 ? base.ingest.jobs : cores, files));
+  OIIO::attribute("threads", total_threads);
+  OIIO::attribute("exr_threads", total_threads);
+  std::error_code ec;
+  fs::create_directories(plan.request.destination, ec);
+  // The planned files into the registry: every AtomicOutput of the batch is checked against all
+  // of them, not only against what was written so far.
+  plan.files.claim();
+  Batch batch{plan, log, ColourSpaces::load(base.config), ThreadShare(total_threads), {}, {},
+              {},   {}};
+  batch.stop = stop;
+  // The manifest's place is checked (and its temporary file made) before any work; a killed
+  // earlier run's temporary manifest goes (unless the manifest is a stream).
+  const fs::path manifest_path(plan.manifest);
+  if (!fs::exists(manifest_path, ec) || fs::is_regular_file(manifest_path, ec))
+    batch.sweep(manifest_path.has_parent_path() ? manifest_path.parent_path().string() : ".");
+  AtomicOutput manifest(
+      plan.manifest,
+      WriteRules::named("the manifest")
+          .streams()
+          .below(plan.request.manifest.empty() ? plan.request.destination : std::string()));
+
+  std::vector<Json> records(plan.items.size());
+  IngestSummary sum;
+  std::mutex mutex;
+  std::atomic<std::size_t> next{0};
+  std::size_t done = 0;
+  auto worker = [&] {
+    ensure_signal_stack();  // a crash on this thread still removes the batch's temporaries
+    for (std::size_t i; (i = next.fetch_add(1)) < plan.items.size();) {
+      if (batch.stopping()) break;
+      Json r = process(plan.items[i], batch);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (r.is_null()) continue;  // interrupted
+      const std::string status = r["status"];
+      if (status == "converted") ++sum.converted, sum.pixels += r["pixels"].get<std::uint64_t>();
+      if (status == "up_to_date") ++sum.up_to_date;
+      if (status == "skipped_data") ++sum.skipped_data;
+      if (status == "copied_data") ++sum.copied_data;
+      if (status == "derived") ++sum.derived;
+      if (status == "failed") ++sum.failed;
+      if (progress)
+        progress(++done, plan.items.size(),
+                 status == "failed" ? "failed: " + r["message"].get<std::string>()
+                                    : status + " " + plan.items[i].input);
+      records[i] = std::move(r);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  for (const std::string& w : batch.pool.save()) log(0, w);
+  // The renames of the batch made durable, one sync per output folder, before the manifest
+  // says they happened.
+  for (const std::string& folder : batch.swept) sync_folder(folder);
+
+  for (const LeftOut& l : plan.left_out) {
+    ++sum.left_out;
+    ++sum.left_out_by_reason[l.kind];
+    if (l.failure) ++sum.not_entered;
+  }
+  sum.stale_temporaries_removed = batch.stale;
+  sum.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  sum.manifest = plan.manifest;
+  sum.interrupted = batch.stopping();
+  std::string text;
+  for (const Json& r : records) {
+    if (r.is_null()) {
+      ++sum.not_done;  // not started, or abandoned by the interruption
+      continue;
+    }
+    text += dump_json(r) + "\n";
+    // Kept for callers that cannot read the manifest back (a stream, /dev/stdout).
+    if (r.value("status", "") == "failed") sum.failures.push_back(dump_json(r));
+  }
+  sum.interrupted = sum.interrupted && sum.not_done > 0;
+  for (const LeftOut& l : plan.left_out) text += left_out_line(l) + "\n";
+  text +=
+      summary_line(
+          sum, PartInfo{plan.batch, {plan.request.shard, plan.request.shards}, plan.all_items}) +
+      "\n";
+  manifest.write(text);
+  manifest.commit();
+  return sum;
+}
+
+}  // namespace spectralize

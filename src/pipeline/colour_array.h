@@ -1,0 +1,54 @@
+#pragma once
+// Arrays of colours to spectra and back (docs/DESIGN.md §13): the image kernel without an
+// image, for the Python module and C++ callers. Colours go through OCIO to XYZ and through the
+// shared node table (and its persistent cache) exactly as pixels do; spectra come back through
+// the reference integration and OCIO as --to-rgb does.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "colour/colour_space.h"
+#include "pipeline/job_log.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "settings/settings.h"
+#include "pipeline/spectral_converter.h"
+#include "pipeline/table_pool.h"
+
+namespace spectralize {
+
+class ColourArrays {
+ public:
+  /// Resolves the colour space (settings.colorspace, else the config's scene-linear space) and
+  /// the mode ("auto" is emission: float colours are light, as for --color), and takes the
+  /// spectralizer and table for them from `pool` (loading settings.cache_dir). Throws Error for
+  /// an unknown or data colour space. Cost: the config and, the first time, the table's setup.
+  ColourArrays(const Settings& settings, TablePool& pool, const LogFn& log);
+
+  /// The settings as used (colour space and mode resolved). Cost: O(1).
+  const Settings& settings() const { return settings_; }
+  /// Samples per spectrum. Cost: O(1).
+  std::size_t bands() const { return settings_.spectral.grid.size(); }
+
+  /// n packed RGB triples to n spectra of bands() floats each, in parallel on OIIO's pool
+  /// (settings.threads); every colour counted by kind, its error measured on the float
+  /// samples. Thread-safe. Cost: O(n x bands), plus node solves on first use.
+  PixelCounts spectra(const float* rgb, std::size_t n, float* out) const;
+
+ private:
+  Settings settings_;
+  ColourSpaces spaces_;
+  TablePool::Entry* entry_ = nullptr;
+  ColourTransform to_xyz_;
+};
+
+/// n spectra of wavelengths.size() floats each (sample i at wavelengths[i] nm) to n packed RGB
+/// triples in settings.colorspace (or settings.display and view): emission integrated with the
+/// observer, reflectance under settings.spectral.illuminant (white balanced unless as_lit).
+/// `emissive` says which. Throws Error (starting with `where`) for bad wavelengths or an unknown
+/// colour space. Cost: O(n x bands).
+RgbCounts rgb_of_spectra(const float* spectra, std::size_t n,
+                         const std::vector<double>& wavelengths, bool emissive,
+                         const Settings& settings, float* rgb, const std::string& where);
+
+}  // namespace spectralize

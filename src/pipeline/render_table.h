@@ -1,0 +1,63 @@
+#pragma once
+// The render-time table of a colour space (docs/DESIGN.md §14): `spectralize table` and
+// spectralize.table() build an ExactTable for the settings in the RGB of a linear OCIO colour
+// space (its RGB -> XYZ matrix measured through OCIO) and write it as a .spztab file, which
+// renderers read with <spectralize/rt.h>.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/exact_table.h"
+#include "core/mat3.h"
+#include "core/spectral_table.h"
+#include "colour/colour_space.h"
+#include "pipeline/job_log.h"
+#include "pipeline/job_settings.h"
+#include "settings/settings.h"
+
+namespace spectralize {
+
+/// The RGB -> CIE XYZ (D65) matrix of the space's primaries: the XYZ of the unit RGB vectors
+/// (0 and 1 survive any transfer function, so encoded spaces have one too); nullopt for data
+/// or a degenerate space. Cost: an OCIO processor.
+std::optional<Mat3> primaries_matrix(const ColourSpaces& spaces, std::string_view space);
+
+/// The frame of a job's exact table (core/spectral_table.h): the space's primaries matrix when
+/// its white is D65 (so that RGB (1, 1, 1) is the perfect reflector and the table's dense
+/// cells cover the space's cube, as in a render-time table for it), else Linear Rec.709's.
+/// Cost: an OCIO processor.
+Mat3 table_frame(const ColourSpaces& spaces, std::string_view space);
+
+/// True when the space's conversion to XYZ is that matrix (linear RGB, no curve), tested on
+/// colours inside and outside [0, 1]. Cost: an OCIO processor.
+bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& matrix);
+
+/// Table settings: an output named .spztab, the config loads, the colour space (default: the
+/// config's scene_linear role) exists and is linear RGB (an encoded or log space is refused,
+/// naming the linear space with its primaries when the config has one: renderers decode and
+/// filter textures in linear before the lookup), mode auto is reflectance. Returned resolved.
+/// Throws Error naming the option. Cost: the config's parse, OCIO processors.
+Settings checked_table_settings(Settings settings, const std::string& output,
+                                const OptionNames& names);
+
+/// A built table file.
+struct RenderTable {
+  std::string bytes;       // the .spztab file
+  std::string colorspace;  // the space it is for
+  ExactTableStats stats;
+  std::size_t spectra = 0;         // node spectra stored
+  std::size_t boundary_cells = 0;  // cells clipped to the gamut
+  double seconds = 0;              // to build it
+};
+
+/// Builds the table for checked settings, on `settings.threads` cores (0: all). The bytes
+/// depend only on the settings. Cost: every node's solve (~40 us each at 5 nm; ~20 000 nodes
+/// per reflectance table), a few seconds.
+RenderTable make_render_table(const Settings& settings, const LogFn& log);
+
+/// Writes the table to `path` atomically (docs/DESIGN.md §9). Throws Error naming the file.
+/// Cost: O(size).
+void write_render_table(const std::string& path, const RenderTable& table);
+
+}  // namespace spectralize

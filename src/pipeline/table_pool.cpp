@@ -1,0 +1,79 @@
+#include "pipeline/table_pool.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "pipeline/table_cache.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+
+TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log) {
+  // The table's layout follows from the same settings and the frame: they find the entry again
+  // without building a spectralizer.
+  std::string seen = table_cache_key(s, "") + "; method " +
+                     (s.method == SpectralTable::Method::exact ? "exact" : "table") + "; cache " +
+                     s.cache_dir + "; frame";
+  for (double v : frame) seen += fmt::format(" {}", v);  // shortest round-trip form
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = seen_.find(seen); it != seen_.end()) return *it->second;
+  }
+  // The key names everything the node spectra depend on (and the method: exact tables differ).
+  auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
+  auto table = std::make_unique<SpectralTable>(*spectralizer, s.method, frame);
+  const std::string key = table_cache_key(s, table->layout()) +
+                          (s.method == SpectralTable::Method::exact ? "; exact" : "");
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = entries_.find(key);
+  if (it != entries_.end()) {
+    seen_[seen] = it->second.get();
+    return *it->second;
+  }
+  auto entry = std::make_unique<Entry>();
+  entry->key = key;
+  entry->spectralizer = std::move(spectralizer);
+  entry->table = std::move(table);
+  if (!s.cache_dir.empty() && s.method == SpectralTable::Method::table) {
+    std::error_code ec;
+    fs::create_directories(s.cache_dir, ec);
+    if (fs::is_directory(s.cache_dir, ec)) {
+      entry->file_key = table_cache_key(s, entry->table->layout());
+      entry->cache_file = table_cache_file(s.cache_dir, entry->file_key);
+      const std::string why = load_table_cache(*entry->table, entry->cache_file, entry->file_key);
+      entry->cache_status = why.empty()
+                                ? (entry->table->stats().nodes_loaded > 0 ? "loaded" : "new")
+                                : "rebuilt: " + why;
+      if (!why.empty()) log(0, "cache '" + entry->cache_file + "' ignored and rebuilt: " + why);
+    } else {
+      log(0, "--cache '" + s.cache_dir +
+                 "': not a folder that can be created; running without a persistent cache");
+    }
+  }
+  Entry& ref = *entry;
+  entries_[key] = std::move(entry);
+  seen_[seen] = &ref;
+  return ref;
+}
+
+std::vector<std::string> TablePool::save() {
+  std::vector<std::string> warnings;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto& [key, e] : entries_) {
+    const std::uint64_t computed = e->table->stats().nodes_computed;
+    if (e->cache_file.empty() || computed == e->saved_computed) continue;
+    // Nodes another process saved meanwhile are adopted first (each is checked), so the file
+    // grows by what both computed instead of keeping the last writer's only.
+    (void)load_table_cache(*e->table, e->cache_file, e->file_key);
+    const std::string why = save_table_cache(*e->table, e->cache_file, e->file_key);
+    if (!why.empty())
+      warnings.push_back("cache '" + e->cache_file + "' not saved: " + why);
+    else
+      e->saved_computed = computed;
+  }
+  return warnings;
+}
+
+}  // namespace spectralize

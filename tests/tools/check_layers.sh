@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The folders of src/ depend one way (docs/DESIGN.md §1): each may include only the folders
+# listed after it (and itself). Prints every include that points up or sideways; exit 1 if any.
+# Usage: check_layers.sh SOURCE_DIR
+set -euo pipefail
+cd "$1/src"
+declare -A allowed=(
+  [core]="spectralize"
+  [text]="spectralize"
+  [imagefile]="spectralize text"
+  [colour]="spectralize text imagefile"
+  [settings]="spectralize core text imagefile"
+  [classify]="spectralize core text imagefile colour settings"
+  [pipeline]="spectralize core text imagefile colour settings classify"
+  [ingest]="spectralize core text imagefile colour settings classify pipeline"
+  [plot]="spectralize core text imagefile colour settings"
+  [baseline]="spectralize core"
+)
+bad=0
+for dir in "${!allowed[@]}"; do
+  [ -d "$dir" ] || { echo "check_layers: no folder src/$dir" >&2; bad=1; continue; }
+  while IFS= read -r line; do
+    file="${line%%:*}"
+    target="$(sed -E 's/.*#include "([a-z_]+)\/.*/\1/' <<<"${line#*:}")"
+    [ "$target" = "$dir" ] && continue
+    case " ${allowed[$dir]} " in *" $target "*) ;; *)
+      echo "src/$file includes $target/: $dir may include only ${allowed[$dir]}"; bad=1 ;;
+    esac
+  done < <(grep -HE '^#include "[a-z_]+/' "$dir"/*.h "$dir"/*.cpp 2>/dev/null || true)
+done
+# Every folder of src/ is in the table above or a front end (tool, figures, path_tracer).
+for dir in */; do
+  dir="${dir%/}"
+  case "$dir" in tool|figures|path_tracer) continue ;; esac
+  [ -n "${allowed[$dir]+x}" ] || { echo "src/$dir/ is not in the layer table"; bad=1; }
+done
+exit $bad
