@@ -82,17 +82,19 @@ bool polish_exact(std::span<const Xyz> weights, std::span<double> spectrum, cons
 }
 
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
-                         const Xyz& target, double upper) {
+                         const Xyz& target, double upper, const ProjectionControl& control) {
   std::vector<double> bounds(weights.size(), upper);
-  return project_exact(weights, start, target, bounds);
+  return project_exact(weights, start, target, bounds, control);
 }
 
 Projection project_exact(std::span<const Xyz> weights, std::span<const double> start,
-                         const Xyz& target, std::span<const double> upper_bounds) {
+                         const Xyz& target, std::span<const double> upper_bounds,
+                         const ProjectionControl& control) {
   const std::size_t n = weights.size();
   Projection out;
   out.values.resize(n);
-  const double tol = 1e-13 * std::max(target.max_abs(), 1e-300);
+  const double scale = std::max(target.max_abs(), 1e-300);
+  const double tol = control.tolerance * scale;
 
   // Dual objective psi(nu) = sum_m P(start_m + c_m.nu) - target.nu; its gradient is
   // W x(nu) - target, so a minimiser gives an exact x.
@@ -118,14 +120,15 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
   // Lipschitz constant), which sizes both the damping and the safe gradient step.
   double lipschitz = 0;
   for (const Xyz& c : weights) lipschitz += dot(c, c);
-  const double mu = 1e-12 * lipschitz + 1e-300;
+  const double mu = control.damping * lipschitz + 1e-300;
 
   Xyz nu, grad;
   Sym3 hess;
   evaluate(nu, grad, &hess);
-  for (out.iterations = 0; out.iterations < 500; ++out.iterations) {
+  for (out.iterations = 0; out.iterations < control.max_iterations; ++out.iterations) {
     if (grad.max_abs() <= tol) {
       out.converged = true;
+      out.residual = grad.max_abs() / scale;
       return out;
     }
     // Damped Newton direction on the free set (or the gradient, if that is no descent), then
@@ -158,6 +161,7 @@ Projection project_exact(std::span<const Xyz> weights, std::span<const double> s
   }
   evaluate(nu, grad, nullptr);
   out.converged = grad.max_abs() <= tol;
+  out.residual = grad.max_abs() / scale;
   return out;
 }
 

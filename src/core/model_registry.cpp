@@ -3,11 +3,11 @@
 
 #include <algorithm>
 
-#include "spectralize/core/error.h"
 #include "core/exemplar_model.h"
 #include "core/natural_model.h"
 #include "core/paper_model.h"
 #include "core/smooth_model.h"
+#include "spectralize/core/error.h"
 #include "spectralize/core/spectrum_model.h"
 
 namespace spectralize {
