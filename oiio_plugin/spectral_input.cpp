@@ -15,15 +15,15 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
-#include "colour/colour_space.h"
-#include "pipeline/image_conversion.h"
-#include "imagefile/image_reader.h"
 #include "classify/input_interpretation.h"
+#include "colour/colour_space.h"
+#include "imagefile/image_reader.h"
 #include "imagefile/output_metadata.h"
-#include "settings/recipe.h"
-#include "pipeline/rgb_from_spectral.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/image_conversion.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "settings/recipe.h"
+#include "spectralize/core/error.h"
 #include "spectralize/version.h"
 
 OIIO_PLUGIN_NAMESPACE_BEGIN

@@ -19,20 +19,20 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
-#include "spectralize/core/spectrum_model.h"
+#include "imagefile/safe_output.h"
+#include "ingest/ingest.h"
+#include "ingest/shard.h"
 #include "pipeline/colour_array.h"
 #include "pipeline/image_job.h"
 #include "pipeline/image_report.h"
-#include "ingest/ingest.h"
 #include "pipeline/job_settings.h"
 #include "pipeline/render_table.h"
-#include "imagefile/safe_output.h"
-#include "ingest/shard.h"
 #include "pipeline/table_pool.h"
 #include "py_arrays.h"
 #include "py_interrupt.h"
 #include "py_options.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectrum_model.h"
 #include "spectralize/version.h"
 
 namespace py = pybind11;

@@ -4,8 +4,8 @@
 #include <atomic>
 #include <thread>
 
-#include "spectralize/core/colorimetry.h"
 #include "core/colour_difference.h"
+#include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
 

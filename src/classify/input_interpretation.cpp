@@ -10,10 +10,10 @@
 #include <map>
 #include <set>
 
-#include "spectralize/core/error.h"
 #include "classify/light_or_surface.h"
-#include "imagefile/safe_output.h"
 #include "imagefile/spectral_channel.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

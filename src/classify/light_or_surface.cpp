@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "imagefile/image_reader.h"
 #include "classify/input_interpretation.h"
+#include "imagefile/image_reader.h"
 
 namespace spectralize {
 

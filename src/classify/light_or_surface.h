@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/spectralizer.h"
 #include "colour/colour_space.h"
 #include "settings/map_kind.h"
 #include "settings/settings.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

@@ -13,8 +13,9 @@
 #include <set>
 #include <sstream>
 
-#include "spectralize/core/error.h"
 #include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -182,11 +183,6 @@ void collect_file_sources(const OCIO::ConstTransformRcPtr& t, std::set<std::stri
   } else if (auto file = std::dynamic_pointer_cast<const OCIO::FileTransform>(t)) {
     if (file->getSrc() && *file->getSrc()) out.insert(file->getSrc());
   }
-}
-
-std::uint64_t fnv1a(std::string_view s, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
 }
 
 std::string file_bytes(const std::string& path) {

@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "spectralize/core/xyz.h"
 #include "colour/icc_profile.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize {
 

@@ -2,7 +2,7 @@
 
 #include "colour/icc_profile.h"
 #include "imagefile/output_formats.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

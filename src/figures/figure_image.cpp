@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <system_error>
 
-#include "spectralize/core/error.h"
 #include "imagefile/image_file_output.h"
+#include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
 

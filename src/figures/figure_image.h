@@ -7,8 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "figures/sphere_render.h"
 #include "colour/colour_space.h"
+#include "figures/sphere_render.h"
 
 namespace spectralize::figures {
 

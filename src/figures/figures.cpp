@@ -7,14 +7,14 @@
 #include <filesystem>
 #include <system_error>
 
+#include "colour/colour_space.h"
+#include "figures/figure_image.h"
+#include "figures/sphere_render.h"
+#include "plot/spectrum_plot.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/sample_weights.h"
 #include "spectralize/core/spectralizer.h"
-#include "figures/figure_image.h"
-#include "figures/sphere_render.h"
-#include "colour/colour_space.h"
-#include "plot/spectrum_plot.h"
 
 namespace fs = std::filesystem;
 

@@ -9,9 +9,9 @@
 #include <iostream>
 #include <string>
 
-#include "spectralize/core/error.h"
 #include "figures/figures.h"
 #include "figures/validation.h"
+#include "spectralize/core/error.h"
 
 namespace {
 

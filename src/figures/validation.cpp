@@ -5,14 +5,14 @@
 #include <cmath>
 #include <memory>
 
-#include "spectralize/core/colorimetry.h"
 #include "core/colour_difference.h"
-#include "spectralize/core/error.h"
 #include "core/exemplar_model.h"
-#include "spectralize/core/sample_weights.h"
 #include "core/spectral_table.h"
-#include "spectralize/core/spectrum_model.h"
 #include "figures/reference_rows.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/sample_weights.h"
+#include "spectralize/core/spectrum_model.h"
 
 namespace spectralize::figures {
 

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "colour/colour_space.h"
 #include "spectralize/core/edge_filter.h"
 #include "spectralize/core/spectralizer.h"
-#include "colour/colour_space.h"
 
 namespace spectralize::figures {
 

@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
+#include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "imagefile/safe_output.h"
 
 namespace fs = std::filesystem;
 

@@ -11,7 +11,7 @@
 #include <exception>
 
 #include "spectralize/core/error.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "imagefile/output_formats.h"
 #include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

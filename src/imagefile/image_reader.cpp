@@ -4,9 +4,10 @@
 #include <cstring>
 #include <thread>
 
-#include "spectralize/core/error.h"
 #include "imagefile/exr_scanline_reader.h"
 #include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 
@@ -16,10 +17,6 @@ namespace {
 // 16 MB, e.g. two 16-row zip chunks of 8192 float RGB pixels, or one 256-row DWAB chunk of any
 // width.
 constexpr std::size_t kChunkBudget = 16u << 20;
-
-std::string quote(const std::string& path) {
-  return spectralize::quote(path, 200);
-}
 
 }  // namespace
 
@@ -37,11 +34,11 @@ ImageReader::ImageReader(const std::string& path, int output_channels, bool stra
   in_ = OIIO::ImageInput::open(path, &config);
   if (!in_) {
     const std::string why = OIIO::geterror();
-    throw Error(quote(path) +
+    throw Error(quoted_path(path) +
                 ": cannot read: " + (why.empty() ? "unknown format" : clip(why, 300)));
   }
   spec_ = in_->spec();
-  const std::string where = quote(path) + ": ";
+  const std::string where = quoted_path(path) + ": ";
   if (spec_.depth > 1) throw Error(where + "volume images are not supported");
   const long long w = spec_.width, h = spec_.height;
   if (w <= 0 || h <= 0 || spec_.nchannels <= 0)
@@ -97,7 +94,7 @@ void ImageReader::read_rows(int y0, int y1, float* out) {
   const int nch = spec_.nchannels;
   const std::size_t row_values = static_cast<std::size_t>(spec_.width) * nch;
   auto fail = [&](const std::string& why) {
-    throw Error(quote(path_) + ": cannot read rows " + std::to_string(y0) + ".." +
+    throw Error(quoted_path(path_) + ": cannot read rows " + std::to_string(y0) + ".." +
                 std::to_string(y1 - 1) + ": " + clip(why, 300));
   };
   if (exr_) {

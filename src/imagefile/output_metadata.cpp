@@ -1,10 +1,9 @@
 #include "imagefile/output_metadata.h"
+#include "text/strings.h"
 
 #include <charconv>
 #include <cstdlib>
 #include <ctime>
-
-#include "imagefile/safe_output.h"
 
 namespace spectralize {
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace fs = std::filesystem;
 
@@ -218,20 +219,17 @@ FilePlace existing_place(const struct stat& st) {
   return {static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino), ""};
 }
 
-std::string quoted(const std::string& path) {
-  return quote(path, 200);
-}
-
 // "the input 'lib/a.png'" for messages.
 std::string described(const std::string& what, const std::string& path) {
-  return path.empty() ? what : what + " " + quoted(path);
+  return path.empty() ? what : what + " " + quoted_path(path);
 }
 
 // "is also the output of 'lib/a.png' ('out/./a.exr') in this run; ...": another output of the
 // run, under the spelling it was given when that differs.
 std::string also_written(const std::string& what, const std::string& other,
                          const std::string& destination) {
-  return "is also " + what + (other == destination ? std::string() : " (" + quoted(other) + ")") +
+  return "is also " + what +
+         (other == destination ? std::string() : " (" + quoted_path(other) + ")") +
          " in this run; refusing to write both";
 }
 
@@ -294,16 +292,16 @@ std::string link_on_the_way(const std::string& destination, const std::string& b
   if (below.empty()) return "";
   const fs::path rel = fs::path(destination).lexically_relative(below);
   if (rel.empty() || *rel.begin() == "..")
-    return quoted(destination) + ": is not inside " + quoted(below);
+    return quoted_path(destination) + ": is not inside " + quoted_path(below);
   fs::path at = below;
   for (const fs::path& part : rel) {
     at /= part;
     struct stat st {};
     if (::lstat(at.c_str(), &st) != 0) return "";  // made by the tool from here on
     if (S_ISLNK(st.st_mode))
-      return quoted(destination) + ": " +
+      return quoted_path(destination) + ": " +
              (at == fs::path(destination) ? std::string("is")
-                                          : "its folder " + quoted(at.string()) + " is") +
+                                          : "its folder " + quoted_path(at.string()) + " is") +
              " a symbolic link spectralize did not make; refusing to write through it";
   }
   return "";
@@ -313,12 +311,12 @@ std::string link_on_the_way(const std::string& destination, const std::string& b
 // run reads or another of its outputs, else "". Called with g_registry_mutex held.
 std::string conflict_locked(const std::string& destination, const FilePlace& place,
                             std::span<const std::string> inputs) {
-  const std::string where = quoted(destination) + ": ";
+  const std::string where = quoted_path(destination) + ": ";
   if (place.rest.empty()) {
     for (const std::string& input : inputs) {
       struct stat st {};
       if (::stat(input.c_str(), &st) == 0 && existing_place(st) == place)
-        return where + "is the input file " + quoted(input) + "; refusing to overwrite it";
+        return where + "is the input file " + quoted_path(input) + "; refusing to overwrite it";
     }
     if (auto it = g_reads.find(place); it != g_reads.end())
       return where + "is a file this run reads (" + described(it->second.what, it->second.path) +
@@ -336,7 +334,7 @@ std::string conflict_locked(const std::string& destination, const FilePlace& pla
 std::string check_destination(const std::string& destination, const WriteRules& rules,
                               std::span<const std::string> inputs, bool folder_must_exist,
                               std::string& target, bool& stream, FilePlace& place) {
-  const std::string where = quoted(destination) + ": ";
+  const std::string where = quoted_path(destination) + ": ";
   stream = false;
   target = destination;
   if (destination.empty()) return "an empty output file name";
@@ -379,9 +377,9 @@ std::string check_destination(const std::string& destination, const WriteRules& 
     const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-      return where + quoted(dir.string()) + " is not a folder";
+      return where + quoted_path(dir.string()) + " is not a folder";
     if (!fs::is_directory(dir, ec))
-      return where + "the folder " + quoted(dir.string()) + " does not exist";
+      return where + "the folder " + quoted_path(dir.string()) + " does not exist";
   }
   return "";
 }
@@ -426,7 +424,7 @@ std::string FilePlan::write(const std::string& path, const std::string& what,
   // A stream is written in place: never claimed, but never a planned file either (a shell's
   // descriptor on an input).
   if (stream && place == FilePlace{}) return "";
-  const std::string where = quoted(path) + ": ";
+  const std::string where = quoted_path(path) + ": ";
   if (auto it = reads_.find(place); it != reads_.end())
     return where + "is a file this run reads (" + described(it->second.what, it->second.path) +
            "); refusing to overwrite it";
@@ -466,13 +464,6 @@ void check_readable_file(const std::string& path, std::string_view what) {
                                             : "not a file") +
                     ")");
   protect_input(path, what.empty() ? std::string_view("an input") : what);
-}
-
-std::string clip(std::string_view value, std::size_t limit) {
-  if (value.size() <= limit) return std::string(value);
-  std::size_t n = limit;
-  while (n > 0 && (static_cast<unsigned char>(value[n]) & 0xC0) == 0x80) --n;
-  return std::string(value.substr(0, n)) + "... (" + std::to_string(value.size()) + " bytes)";
 }
 
 // OpenImageIO writes through this proxy: every write goes to the temporary file's descriptor

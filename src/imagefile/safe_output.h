@@ -154,10 +154,6 @@ class AtomicOutput {
 /// refuse). Cost: one fsync.
 void sync_folder(const std::string& folder);
 
-/// Shortens a user-supplied value for a message: at most `limit` characters, then "...".
-/// Cost: O(limit).
-std::string clip(std::string_view value, std::size_t limit = 80);
-
 /// While one lives, the files registered by protect_input and the outputs claimed by
 /// AtomicOutput and FilePlan::claim are kept (nested and concurrent scopes share them; the last
 /// to end forgets them): the run's one registry of what it reads and writes (docs/DESIGN.md §9).

@@ -17,19 +17,20 @@
 #include <set>
 #include <thread>
 
-#include "spectralize/core/error.h"
+#include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
 #include "imagefile/exr_header.h"
-#include "pipeline/image_conversion.h"
 #include "imagefile/image_reader.h"
-#include "pipeline/image_job.h"
-#include "ingest/ingest_manifest.h"
-#include "classify/input_interpretation.h"
-#include "text/json_text.h"
-#include "settings/map_kind.h"
 #include "imagefile/safe_output.h"
+#include "ingest/ingest_manifest.h"
+#include "pipeline/image_conversion.h"
+#include "pipeline/image_job.h"
 #include "pipeline/table_pool.h"
+#include "settings/map_kind.h"
+#include "spectralize/core/error.h"
 #include "spectralize/version.h"
+#include "text/json_text.h"
+#include "text/strings.h"
 
 namespace fs = std::filesystem;
 
@@ -42,22 +43,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kKeyAttribute = "spectralize:ingestKey";
 constexpr const char* kRequestKeyAttribute = "spectralize:ingestRequest";
-
-std::uint64_t fnv1a(std::string_view s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-std::string hex(std::uint64_t v) {
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "%016" PRIx64, v);
-  return buf;
-}
-
-std::string quoted_path(const std::string& p) {
-  return quote(p, 200);
-}
 
 // What identifies an output's input apart from the settings: the version, the input by its
 // place in its source tree (what the output mirrors: the same on every machine that mounts the
@@ -77,7 +62,7 @@ std::string ingest_key(const std::string& prefix, const Settings& resolved) {
   std::string text = prefix;
   for (const auto& [spec, value] : file_settings(resolved))
     text.append("|").append(spec->key).append("=").append(value);
-  return hex(fnv1a(text));
+  return hex64(fnv1a(text));
 }
 
 // A memo of the key: everything the decisions and the conversion are made from, as asked (the
@@ -91,7 +76,7 @@ std::string request_key(const std::string& prefix, const IngestItem& item) {
   for (const SettingSpec& spec : settings_schema())
     if (spec.applies(kIngest) && spec.key != "threads" && spec.key != "jobs" && spec.key != "cache")
       text.append("|").append(spec.key).append("=").append(spec.format(item.settings));
-  return hex(fnv1a(text));
+  return hex64(fnv1a(text));
 }
 
 // The up-to-date record of an output, from what its header recorded: how it was decided and

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/job_log.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/job_log.h"
 #include "settings/settings.h"
 
 namespace spectralize {

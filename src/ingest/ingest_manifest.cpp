@@ -11,9 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
 #include "text/json_text.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace fs = std::filesystem;
 
@@ -24,10 +25,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 constexpr const char* kManifestName = "spectralize-ingest.jsonl";
-
-std::string quoted_path(const std::string& p) {
-  return quote(p, 200);
-}
 
 Json counts_json(const IngestSummary& s) {
   Json j;

@@ -17,13 +17,14 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "spectralize/core/error.h"
 #include "colour/colour_space.h"
-#include "ingest/ingest.h"
 #include "imagefile/safe_output.h"
+#include "ingest/ingest.h"
 #include "ingest/same_stem.h"
 #include "ingest/shard.h"
+#include "spectralize/core/error.h"
 #include "spectralize/version.h"
+#include "text/strings.h"
 
 namespace fs = std::filesystem;
 
@@ -34,15 +35,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 constexpr const char* kManifestName = "spectralize-ingest.jsonl";
-
-std::uint64_t fnv1a(std::string_view s, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-std::string quoted_path(const std::string& p) {
-  return quote(p, 200);
-}
 
 // The extensions OIIO reads ("exr", "png", ...), lower case.
 const std::set<std::string>& image_extensions() {

@@ -1,10 +1,9 @@
 #include "ingest/same_stem.h"
+#include "text/strings.h"
 
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
-
-#include "imagefile/safe_output.h"
 
 namespace fs = std::filesystem;
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "spectralize/core/xyz.h"
 #include "path_tracer/scene.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::path_tracer {
 

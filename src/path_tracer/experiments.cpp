@@ -10,16 +10,16 @@
 #include <nlohmann/json.hpp>
 
 #include "baseline/sigmoid_spectrum.h"
-#include "spectralize/core/colorimetry.h"
-#include "spectralize/core/error.h"
-#include "figures/figure_image.h"
 #include "colour/colour_space.h"
+#include "figures/figure_image.h"
 #include "path_tracer/environment.h"
 #include "path_tracer/render.h"
 #include "path_tracer/rt_texture.h"
 #include "path_tracer/sampled_spectra.h"
 #include "path_tracer/scene_inputs.h"
 #include "path_tracer/sigmoid_texture.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

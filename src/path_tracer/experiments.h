@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/xyz.h"
 #include "path_tracer/image_difference.h"
 #include "path_tracer/scene.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::path_tracer {
 

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "imagefile/safe_output.h"
 #include "path_tracer/experiments.h"
+#include "spectralize/core/error.h"
 
 namespace {
 

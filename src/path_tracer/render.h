@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/xyz.h"
 #include "path_tracer/environment.h"
 #include "path_tracer/paths.h"
 #include "path_tracer/scene.h"
 #include "path_tracer/spectral_texture.h"
 #include "path_tracer/wavelengths.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::path_tracer {
 

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "spectralize/core/error.h"
 #include "pipeline/rgb_from_spectral.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {
 

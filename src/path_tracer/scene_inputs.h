@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/xyz.h"
-#include "figures/sphere_render.h"
 #include "colour/colour_space.h"
+#include "figures/sphere_render.h"
 #include "path_tracer/sampled_spectra.h"
+#include "spectralize/core/xyz.h"
 
 namespace spectralize::path_tracer {
 

@@ -2,11 +2,11 @@
 
 #include <OpenImageIO/parallel.h>
 
-#include "spectralize/core/error.h"
 #include "classify/input_interpretation.h"
-#include "pipeline/render_table.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/render_table.h"
 #include "pipeline/spectral_image_layout.h"
+#include "spectralize/core/error.h"
 
 namespace spectralize {
 

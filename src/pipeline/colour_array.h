@@ -11,9 +11,9 @@
 #include "colour/colour_space.h"
 #include "pipeline/job_log.h"
 #include "pipeline/rgb_from_spectral.h"
-#include "settings/settings.h"
 #include "pipeline/spectral_converter.h"
 #include "pipeline/table_pool.h"
+#include "settings/settings.h"
 
 namespace spectralize {
 

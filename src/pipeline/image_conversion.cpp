@@ -4,15 +4,15 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "spectralize/core/error.h"
-#include "colour/colour_space.h"
 #include "classify/input_interpretation.h"
-#include "text/json_text.h"
+#include "colour/colour_space.h"
 #include "imagefile/output_metadata.h"
 #include "pipeline/render_table.h"
 #include "pipeline/spectral_converter.h"
 #include "pipeline/spectral_image_layout.h"
 #include "pipeline/table_cache.h"
+#include "spectralize/core/error.h"
+#include "text/json_text.h"
 
 namespace fs = std::filesystem;
 

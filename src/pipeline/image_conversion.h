@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
 #include "pipeline/image_report.h"
-#include "classify/input_interpretation.h"
 #include "pipeline/job_log.h"
-#include "settings/settings.h"
 #include "pipeline/table_pool.h"
 #include "pipeline/thread_share.h"
+#include "settings/settings.h"
 
 namespace spectralize {
 

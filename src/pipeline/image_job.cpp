@@ -12,19 +12,20 @@
 #include <thread>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "colour/colour_space.h"
 #include "colour/colour_tags.h"
 #include "imagefile/exr_header.h"
 #include "imagefile/exr_scanline_writer.h"
-#include "pipeline/image_conversion.h"
 #include "imagefile/image_file_output.h"
 #include "imagefile/image_reader.h"
 #include "imagefile/output_formats.h"
 #include "imagefile/output_metadata.h"
-#include "pipeline/rgb_from_spectral.h"
 #include "imagefile/safe_output.h"
 #include "imagefile/strip_plan.h"
+#include "pipeline/image_conversion.h"
+#include "pipeline/rgb_from_spectral.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

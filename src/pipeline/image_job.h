@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "imagefile/safe_output.h"
 #include "pipeline/image_conversion.h"
 #include "pipeline/image_report.h"
 #include "pipeline/job_log.h"
-#include "imagefile/safe_output.h"
-#include "settings/settings.h"
 #include "pipeline/table_pool.h"
 #include "pipeline/thread_share.h"
+#include "settings/settings.h"
 
 namespace spectralize {
 

@@ -10,8 +10,8 @@
 
 #include "core/spectral_table.h"
 #include "pipeline/job_settings.h"
-#include "settings/settings.h"
 #include "pipeline/spectral_converter.h"
+#include "settings/settings.h"
 
 namespace spectralize {
 

@@ -4,11 +4,11 @@
 
 #include <filesystem>
 
-#include "spectralize/core/error.h"
-#include "colour/colour_space.h"
 #include "classify/input_interpretation.h"
+#include "colour/colour_space.h"
 #include "imagefile/output_formats.h"
-#include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

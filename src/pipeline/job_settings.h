@@ -23,15 +23,15 @@ struct OptionNames {
 };
 
 /// RGB -> spectral OpenEXR: a .exr output, half or float samples, a compression and tiles
-/// OpenEXR takes (imagefile/output_formats.h), the config loads, the colour space (if given) exists;
-/// returned resolved. Cost: the config's parse.
+/// OpenEXR takes (imagefile/output_formats.h), the config loads, the colour space (if given)
+/// exists; returned resolved. Cost: the config's parse.
 Settings checked_image_settings(Settings settings, const std::string& output,
                                 const OptionNames& names);
 
-/// Spectral -> RGB: an output format of the table (imagefile/output_formats.h) that stores the sample
-/// type, compression and tiles asked; colorspace or display (not both), view only with display,
-/// each existing. Without `format_given`, formats that store integers (PNG, TIFF, JPEG, ...)
-/// get 8-bit samples and the config's texture space, float formats their scene-linear space;
+/// Spectral -> RGB: an output format of the table (imagefile/output_formats.h) that stores the
+/// sample type, compression and tiles asked; colorspace or display (not both), view only with
+/// display, each existing. Without `format_given`, formats that store integers (PNG, TIFF, JPEG,
+/// ...) get 8-bit samples and the config's texture space, float formats their scene-linear space;
 /// without `compression_given` the format's own default compression. Returned resolved.
 /// Cost: the config's parse, an OCIO processor.
 Settings checked_to_rgb_settings(Settings settings, const std::string& output, bool format_given,

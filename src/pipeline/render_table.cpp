@@ -6,11 +6,12 @@
 #include <chrono>
 #include <filesystem>
 
-#include "spectralize/core/error.h"
-#include "core/table_file.h"
 #include "classify/input_interpretation.h"
-#include "pipeline/job_settings.h"
+#include "core/table_file.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/job_settings.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <string_view>
 
+#include "colour/colour_space.h"
 #include "core/exact_table.h"
 #include "core/mat3.h"
 #include "core/spectral_table.h"
-#include "colour/colour_space.h"
 #include "pipeline/job_log.h"
 #include "pipeline/job_settings.h"
 #include "settings/settings.h"

@@ -5,15 +5,15 @@
 #include <cmath>
 #include <limits>
 
+#include "colour/colour_tags.h"
+#include "imagefile/output_metadata.h"
+#include "imagefile/spectral_channel.h"
+#include "settings/settings.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "colour/colour_tags.h"
-#include "imagefile/output_metadata.h"
-#include "imagefile/safe_output.h"
-#include "settings/settings.h"
-#include "imagefile/spectral_channel.h"
 #include "spectralize/version.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/sample_weights.h"
 #include "colour/colour_space.h"
 #include "settings/settings.h"
+#include "spectralize/core/sample_weights.h"
 
 namespace spectralize {
 

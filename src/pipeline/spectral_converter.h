@@ -9,12 +9,12 @@
 #include <mutex>
 #include <vector>
 
-#include "core/spectral_table.h"
-#include "spectralize/core/spectralizer.h"
-#include "colour/colour_space.h"
 #include "classify/input_interpretation.h"
+#include "colour/colour_space.h"
+#include "core/spectral_table.h"
 #include "pipeline/spectral_image_layout.h"
 #include "pipeline/thread_share.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

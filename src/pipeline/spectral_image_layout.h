@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "spectralize/core/spectralizer.h"
 #include "colour/colour_space.h"
 #include "settings/settings.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 

@@ -10,19 +10,13 @@
 #include <cstring>
 #include <filesystem>
 
-#include "spectralize/core/error.h"
 #include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace spectralize {
 
 namespace {
-
-// FNV-1a, 64 bit: stable across platforms (std::hash is not), for file names and checksums.
-std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 1469598103934665603ull) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
 
 constexpr char kMagic[16] = "SPECTRALIZE-TBL";  // 15 chars + NUL
 constexpr std::uint32_t kFormatVersion = 3;     // 3: nodes of the exact table (docs/DESIGN.md §14)
@@ -39,8 +33,7 @@ std::size_t max_file_size(const SpectralTable& t) {
 
 std::string table_cache_file(const std::string& dir, const std::string& key) {
   char name[64];
-  std::snprintf(name, sizeof name, "spectralize-table-%016" PRIx64 ".bin",
-                fnv1a(key.data(), key.size()));
+  std::snprintf(name, sizeof name, "spectralize-table-%016" PRIx64 ".bin", fnv1a(key));
   return (std::filesystem::path(dir) / name).string();
 }
 
@@ -71,7 +64,7 @@ std::string load_table_cache(SpectralTable& table, const std::string& file,
     return "not a spectralize node table";
   std::uint64_t stored_sum;
   std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored_sum)
+  if (fnv1a(std::string_view(bytes.data(), bytes.size() - 8)) != stored_sum)
     return "checksum mismatch (corrupt or truncated)";
   std::size_t at = sizeof kMagic;
   auto take = [&](void* dst, std::size_t n) {
@@ -135,7 +128,7 @@ std::string save_table_cache(const SpectralTable& table, const std::string& file
     ++entries;
   });
   std::memcpy(bytes.data() + entries_at, &entries, 8);
-  const std::uint64_t sum = fnv1a(bytes.data(), bytes.size());
+  const std::uint64_t sum = fnv1a(std::string_view(bytes.data(), bytes.size()));
   put(&sum, 8);
   try {
     // The cache folder is the user's; the file in it is named by spectralize, so a link there is

@@ -10,18 +10,18 @@
 #include <string>
 
 #include "core/spectral_table.h"
-#include "spectralize/core/spectralizer.h"
 #include "pipeline/job_log.h"
 #include "settings/settings.h"
+#include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
 
 class TablePool {
  public:
   /// The shared spectralizer and table for these settings (mode resolved) in the RGB frame of
-  /// the input's colour space (pipeline/render_table.h table_frame), with its cache file and status;
-  /// built (and loaded from settings.cache_dir) on first use. Thread-safe.
-  /// Cost: ~1 ms plus loading the cache file the first time, O(log tables) after.
+  /// the input's colour space (pipeline/render_table.h table_frame), with its cache file and
+  /// status; built (and loaded from settings.cache_dir) on first use. Thread-safe. Cost: ~1 ms plus
+  /// loading the cache file the first time, O(log tables) after.
   struct Entry {
     std::unique_ptr<Spectralizer> spectralizer;
     std::unique_ptr<SpectralTable> table;

@@ -18,12 +18,12 @@
 #include <string_view>
 #include <utility>
 
-#include "spectralize/core/error.h"
 #include "colour/colour_space.h"
 #include "colour/colour_tags.h"
 #include "imagefile/image_file_output.h"
 #include "imagefile/output_formats.h"
 #include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
 #include "spectralize/version.h"
 
 namespace fs = std::filesystem;

@@ -81,8 +81,8 @@ std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::strin
                                       std::span<const std::string> inputs = {});
 
 /// Writes the plot as SVG text (one <polyline> per curve, one point per sample), through
-/// imagefile/safe_output.h (a stream such as /dev/stdout is written in place). SVG colours are sRGB:
-/// returns a warning when `cs.encoded` is not. Throws Error naming the file and the reason.
+/// imagefile/safe_output.h (a stream such as /dev/stdout is written in place). SVG colours are
+/// sRGB: returns a warning when `cs.encoded` is not. Throws Error naming the file and the reason.
 /// Cost: O(samples), ~ms.
 std::vector<std::string> write_svg(const SpectrumPlot& plot, const std::string& path,
                                    const PlotSpaces& cs, std::span<const std::string> inputs = {});

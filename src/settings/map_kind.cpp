@@ -7,7 +7,7 @@
 #include <set>
 
 #include "spectralize/core/error.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "spectralize/core/error.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace spectralize {
 

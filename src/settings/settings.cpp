@@ -4,11 +4,10 @@
 #include <charconv>
 #include <cmath>
 
+#include "imagefile/output_formats.h"
+#include "settings/map_kind.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
-#include "settings/map_kind.h"
-#include "imagefile/output_formats.h"
-#include "imagefile/safe_output.h"
 #include "spectralize/version.h"
 
 namespace spectralize {
@@ -20,18 +19,14 @@ constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
 constexpr unsigned kAllCommands =
     kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest | kTable;
 
-std::string quoted(std::string_view text) {
-  return quote(text);
-}
-
 // A whole number in [lo, hi]; throws Error naming the value.
 int whole(std::string_view text, int lo, int hi) {
   int v = 0;
   auto r = std::from_chars(text.data(), text.data() + text.size(), v);
   if (r.ec != std::errc() || r.ptr != text.data() + text.size())
-    throw Error(quoted(text) + " is not a whole number");
+    throw Error(quote(text) + " is not a whole number");
   if (v < lo || v > hi)
-    throw Error(quoted(text) + " must be between " + std::to_string(lo) + " and " +
+    throw Error(quote(text) + " must be between " + std::to_string(lo) + " and " +
                 std::to_string(hi));
   return v;
 }
@@ -43,7 +38,7 @@ std::string_view choice(std::string_view text, std::initializer_list<std::string
     if (c == text) return c;
     valid += (valid.empty() ? "" : ", ") + std::string(c);
   }
-  throw Error(quoted(text) + " (valid: " + valid + ")");
+  throw Error(quote(text) + " (valid: " + valid + ")");
 }
 
 std::string shortest(double v) {
@@ -66,7 +61,7 @@ std::string parse_compression(std::string_view text) {
   if (std::find(names.begin(), names.end(), name) == names.end()) {
     std::string valid;
     for (std::string_view c : names) valid += (valid.empty() ? "" : ", ") + std::string(c);
-    throw Error(quoted(text) + " (valid: " + valid + ", some with :LEVEL, e.g. zip:9, jpeg:90)");
+    throw Error(quote(text) + " (valid: " + valid + ", some with :LEVEL, e.g. zip:9, jpeg:90)");
   }
   if (colon == std::string_view::npos) return std::string(name);
   const std::string_view level = text.substr(colon + 1);
@@ -76,15 +71,15 @@ std::string parse_compression(std::string_view text) {
     auto r = std::from_chars(level.data(), level.data() + level.size(), q);
     if (r.ec != std::errc() || r.ptr != level.data() + level.size() || !(q > 0) ||
         !std::isfinite(q))
-      throw Error(quoted(text) + ": the DWA quality must be a number above 0 (e.g. dwaa:45)");
+      throw Error(quote(text) + ": the DWA quality must be a number above 0 (e.g. dwaa:45)");
   } else if (compression_level_range(name, lo, hi)) {
     try {
       whole(level, lo, hi);
     } catch (const Error& e) {
-      throw Error(quoted(text) + ": the " + std::string(name) + " level " + e.what());
+      throw Error(quote(text) + ": the " + std::string(name) + " level " + e.what());
     }
   } else {
-    throw Error(quoted(text) + ": " + std::string(name) + " takes no level");
+    throw Error(quote(text) + ": " + std::string(name) + " takes no level");
   }
   return std::string(text);
 }
@@ -160,7 +155,7 @@ std::vector<SettingSpec> make_schema() {
                  auto r = std::from_chars(t.data(), t.data() + t.size(), tau);
                  if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !(tau >= 0) ||
                      !(tau <= 1000))
-                   throw Error(quoted(t) + " must be a length in nm from 0 to 1000");
+                   throw Error(quote(t) + " must be a length in nm from 0 to 1000");
                  v.spectral.curvature_nm = tau;
                },
                [](const Settings& v) { return shortest(v.spectral.curvature_nm); },
@@ -214,7 +209,7 @@ std::vector<SettingSpec> make_schema() {
                  const int w = whole(t.substr(0, x), 0, 4096);
                  const int h = x == std::string_view::npos ? w : whole(t.substr(x + 1), 0, 4096);
                  if ((w == 0) != (h == 0) || (w != 0 && (w < 16 || h < 16)))
-                   throw Error(quoted(t) + " must be 0 (scanlines) or sizes between 16 and 4096");
+                   throw Error(quote(t) + " must be 0 (scanlines) or sizes between 16 and 4096");
                  v.tile_width = w;
                  v.tile_height = h;
                },
@@ -270,7 +265,7 @@ std::vector<SettingSpec> make_schema() {
                  const std::string p(t);
                  if (p.size() < 5 || p.substr(p.size() - 4) != ".exr" ||
                      p.find("{stem}") == std::string::npos)
-                   throw Error(quoted(t) + " must contain {stem} and end in .exr");
+                   throw Error(quote(t) + " must contain {stem} and end in .exr");
                  v.ingest.name_pattern = p;
                },
                [](const Settings& v) { return v.ingest.name_pattern; }, nullptr});

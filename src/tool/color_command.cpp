@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "colour/colour_space.h"
+#include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
-#include "colour/colour_space.h"
 #include "text/json_text.h"
-#include "imagefile/safe_output.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

@@ -14,7 +14,7 @@
 
 #include "classify/input_interpretation.h"
 #include "pipeline/render_table.h"
-#include "imagefile/safe_output.h"
+#include "text/strings.h"
 
 namespace spectralize::tool {
 

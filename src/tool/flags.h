@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
-#include "core/spectral_table.h"
-#include "spectralize/core/spectralizer.h"
 #include "colour/colour_space.h"
+#include "core/spectral_table.h"
 #include "pipeline/job_log.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {

@@ -8,11 +8,11 @@
 #include <memory>
 #include <string>
 
-#include "spectralize/core/error.h"
 #include "colour/colour_space.h"
+#include "imagefile/safe_output.h"
 #include "pipeline/image_job.h"
 #include "pipeline/job_settings.h"
-#include "imagefile/safe_output.h"
+#include "spectralize/core/error.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

@@ -7,11 +7,11 @@
 #include <cstdlib>
 #include <string>
 
-#include "spectralize/core/error.h"
 #include "ingest/ingest.h"
-#include "pipeline/job_settings.h"
-#include "imagefile/safe_output.h"
 #include "ingest/shard.h"
+#include "pipeline/job_settings.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

@@ -10,12 +10,13 @@
 #include <utility>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "imagefile/safe_output.h"
 #include "plot/spectrum_plot.h"
+#include "spectralize/core/error.h"
+#include "spectralize/version.h"
+#include "text/strings.h"
 #include "tool/flags.h"
 #include "tool/options.h"
-#include "spectralize/version.h"
 
 using namespace spectralize;
 using namespace spectralize::tool;

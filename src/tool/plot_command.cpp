@@ -12,13 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
-#include "spectralize/core/spectralizer.h"
 #include "colour/colour_space.h"
 #include "imagefile/image_reader.h"
-#include "pipeline/rgb_from_spectral.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/rgb_from_spectral.h"
 #include "plot/spectrum_plot.h"
+#include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
+#include "text/strings.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

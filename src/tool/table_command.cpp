@@ -1,13 +1,15 @@
-// spectralize table -o NAME.spztab: the render-time table of a colour space (pipeline/render_table.h).
+// spectralize table -o NAME.spztab: the render-time table of a colour space
+// (pipeline/render_table.h).
 
 #include <fmt/core.h>
 
 #include <memory>
 #include <string>
 
-#include "spectralize/core/error.h"
-#include "pipeline/render_table.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/render_table.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 #include "tool/flags.h"
 #include "tool/options.h"
 

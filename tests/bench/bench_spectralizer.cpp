@@ -21,8 +21,8 @@
 #include "core/exemplar_model.h"
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
-#include "spectralize/core/spectralizer.h"
 #include "core/table_file.h"
+#include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;
 using bench::rec709;

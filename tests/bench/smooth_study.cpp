@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/colorimetry.h"
 #include "core/colour_difference.h"
-#include "spectralize/core/sample_weights.h"
 #include "core/smooth_solver.h"
+#include "spectralize/core/colorimetry.h"
+#include "spectralize/core/sample_weights.h"
 #include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;

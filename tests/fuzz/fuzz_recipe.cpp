@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string>
 
-#include "spectralize/core/error.h"
 #include "settings/recipe.h"
+#include "spectralize/core/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -6,9 +6,9 @@ set -euo pipefail
 cd "$1/src"
 declare -A allowed=(
   [core]="spectralize"
-  [text]="spectralize"
-  [imagefile]="spectralize text"
-  [colour]="spectralize text imagefile"
+  [text]="spectralize core"
+  [imagefile]="spectralize core text"
+  [colour]="spectralize core text imagefile"
   [settings]="spectralize core text imagefile"
   [classify]="spectralize core text imagefile colour settings"
   [pipeline]="spectralize core text imagefile colour settings classify"

@@ -1,6 +1,6 @@
-// The scanline OpenEXR reader (imagefile/exr_scanline_reader.h): the same samples OIIO reads, for every
-// compression and sample type, in strips of any height and any channel order, with a data window
-// off the origin; the decoded chunks it keeps within its budget; files it does not take.
+// The scanline OpenEXR reader (imagefile/exr_scanline_reader.h): the same samples OIIO reads, for
+// every compression and sample type, in strips of any height and any channel order, with a data
+// window off the origin; the decoded chunks it keeps within its budget; files it does not take.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "imagefile/exr_scanline_reader.h"
+#include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
 

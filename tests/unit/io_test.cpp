@@ -12,15 +12,15 @@
 #include <memory>
 #include <sstream>
 
-#include "spectralize/core/error.h"
-#include "core/spectral_table.h"
+#include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
 #include "colour/colour_tags.h"
-#include "classify/input_interpretation.h"
-#include "settings/recipe.h"
+#include "core/spectral_table.h"
 #include "pipeline/rgb_from_spectral.h"
-#include "imagefile/safe_output.h"
 #include "pipeline/table_cache.h"
+#include "settings/recipe.h"
+#include "spectralize/core/error.h"
+#include "text/strings.h"
 
 namespace fs = std::filesystem;
 

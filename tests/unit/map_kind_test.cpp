@@ -1,6 +1,6 @@
-// The name table (settings/map_kind.h) against a hand-written table of what a TD would say each file
-// holds: the conventions of Unreal, Unity, Substance, Megascans, USD, MaterialX and Arnold, and
-// names that only look like them (normandy_beach, armchair, eye_r, wood_light). The README's
+// The name table (settings/map_kind.h) against a hand-written table of what a TD would say each
+// file holds: the conventions of Unreal, Unity, Substance, Megascans, USD, MaterialX and Arnold,
+// and names that only look like them (normandy_beach, armchair, eye_r, wood_light). The README's
 // table is checked against the code's, word for word.
 
 #include "settings/map_kind.h"

@@ -1,5 +1,5 @@
-// The output formats table (imagefile/output_formats.h) against what OIIO's writers really do on this
-// machine: every stated fact is checked by writing files with OIIO and reading them back
+// The output formats table (imagefile/output_formats.h) against what OIIO's writers really do on
+// this machine: every stated fact is checked by writing files with OIIO and reading them back
 // (sample types kept, alpha kept, real tiles, compressions honoured and their defaults, the
 // reasons for refusals), and check_output refuses what a format cannot hold, naming the format
 // and an alternative.
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "spectralize/core/error.h"
 #include "imagefile/output_formats.h"
+#include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
 

@@ -10,13 +10,13 @@
 #include <set>
 #include <string>
 
-#include "spectralize/core/error.h"
+#include "colour/colour_space.h"
 #include "core/spectral_table.h"
+#include "pipeline/spectral_image_layout.h"
+#include "settings/settings.h"
+#include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralize/core/spectrum_model.h"
-#include "colour/colour_space.h"
-#include "settings/settings.h"
-#include "pipeline/spectral_image_layout.h"
 
 namespace spectralize {
 namespace {
