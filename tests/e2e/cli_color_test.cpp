@@ -86,7 +86,9 @@ TEST(CliColor, PaperLightIsExactNonNegativeAndFreeOfEdgePeaks) {
   ASSERT_EQ(c.nm.size(), 81u);
   EXPECT_EQ(c.nm.front(), 380);
   EXPECT_EQ(c.nm.back(), 780);
-  for (double v : c.values[0]) EXPECT_GE(v, 0);
+  for (double v : c.values[0]) {
+    EXPECT_GE(v, 0);
+  }
   auto xyz = rec709(6000, 5000, 1000);
   auto got = e2e::integrate(c.nm, c.values[0], "cie1931_2deg_cmf_1nm.csv");
   EXPECT_LE(e2e::rel_err(got, xyz[0], xyz[1], xyz[2]), 1e-5);
@@ -140,7 +142,9 @@ TEST(CliColor, WhiteReflectanceIsOneEverywhere) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Json j = Json::parse(r.out);
     // OCIO converts in float: white arrives as D65 to ~1e-7, so rho is 1 to that precision.
-    for (double x : j["values"]) EXPECT_NEAR(x, 1.0, 1e-5) << il;
+    for (double x : j["values"]) {
+      EXPECT_NEAR(x, 1.0, 1e-5) << il;
+    }
   }
 }
 
@@ -206,7 +210,9 @@ TEST(CliColor, OutOfGamutColoursAreMappedAndReported) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   j = Json::parse(r.out);
   EXPECT_EQ(j["status"], "out_of_gamut");
-  for (double x : j["values"]) EXPECT_LE(x, 1 + 1e-12);
+  for (double x : j["values"]) {
+    EXPECT_LE(x, 1 + 1e-12);
+  }
 }
 
 TEST(CliColor, InvalidColoursFailWithAMessage) {
@@ -283,7 +289,9 @@ TEST(CliColor, SmoothModelIsExactBoundedAndSmoother) {
     const bool refl = std::string(mode) == "reflectance";
     for (double x : v) {
       EXPECT_GE(x, 0);
-      if (refl) EXPECT_LE(x, 1.0);
+      if (refl) {
+        EXPECT_LE(x, 1.0);
+      }
     }
     auto got = refl
                    ? e2e::integrate(nm, v, "cie1931_2deg_cmf_1nm.csv", "cie_illuminant_d65_1nm.csv")
@@ -315,9 +323,10 @@ TEST(CliColor, WhiteLightWithTheD65BasisIsTheD65Table) {
       ASSERT_EQ(nm[36], 560);
       const double scale = v[36] / table_at(560);
       const double tol = std::string(method) == "exact" ? 1e-9 : 1e-6;
-      for (std::size_t i = 0; i < nm.size(); ++i)
+      for (std::size_t i = 0; i < nm.size(); ++i) {
         EXPECT_NEAR(v[i], scale * table_at(nm[i]), tol * v[36])
             << model << " " << method << " " << nm[i];
+      }
     }
 }
 

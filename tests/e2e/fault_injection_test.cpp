@@ -147,8 +147,8 @@ TEST(FaultInjection, FullDiskLeavesNothing) {
     std::string path;
     ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
   } unmount{mnt};
-  for (const std::string args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/out.exr",
-                                 "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
+  for (const std::string& args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/out.exr",
+                                  "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
     // Fill the disk but for a few KB first.
     { std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x'); }
     auto r = run("-q " + args);
@@ -184,8 +184,8 @@ TEST(FaultInjection, PlantedLinkAtTheTemporaryNameIsNotFollowed) {
   }
   ::close(gate[0]);
   const std::string pid_text = std::to_string(pid);
-  for (const std::string name : {".out.exr.spectralize-" + pid_text + ".tmp.exr",
-                                 ".out.exr.spectralize-" + pid_text + ".tmp"})
+  for (const std::string& name : {".out.exr.spectralize-" + pid_text + ".tmp.exr",
+                                  ".out.exr.spectralize-" + pid_text + ".tmp"})
     fs::create_symlink(s / "victim.exr", s / name);
   ASSERT_EQ(::write(gate[1], "go", 1), 1);
   ::close(gate[1]);
@@ -203,7 +203,7 @@ TEST(FaultInjection, NonRegularOutputsAreNeverReplaced) {
   const std::string in = kImages + "grey_ramp8.png";
   fs::create_directory(s / "dir.exr");
   ASSERT_EQ(::mkfifo((s / "fifo.exr").c_str(), 0600), 0);
-  for (const std::string out : {s / "dir.exr", s / "fifo.exr", std::string("/dev/null")}) {
+  for (const std::string& out : {s / "dir.exr", s / "fifo.exr", std::string("/dev/null")}) {
     auto r = run(in + " -o " + out, "timeout 20");
     EXPECT_TRUE(r.exit_code == 1 || r.exit_code == 2) << out << ": " << r.err;
     EXPECT_NE(r.err.find(out), std::string::npos) << r.err;

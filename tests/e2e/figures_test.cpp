@@ -175,22 +175,29 @@ void check_tables(const nlohmann::json& doc, const std::string& md, const e2e::R
         if (exact) {
           EXPECT_LE(p.at("relative_xyz_error").get<double>(), 1e-5);
           // Patches inside the space come back to their measured colour under D65 too.
-          if (!p.at("clipped").get<bool>())
+          if (!p.at("clipped").get<bool>()) {
             EXPECT_LE(p.at("delta_e_d65_measured").get<double>(), 0.01);
+          }
         }
         EXPECT_GE(p.at("rho_min").get<double>(), 0.0);
         EXPECT_LE(p.at("rho_max").get<double>(), 1.0 + 1e-12);
         ASSERT_EQ(p.at("delta_e").size(), lights.size());
-        for (const std::string& l : lights) EXPECT_GE(p.at("delta_e").at(l).get<double>(), 0.0);
+        for (const std::string& l : lights) {
+          EXPECT_GE(p.at("delta_e").at(l).get<double>(), 0.0);
+        }
         worst_a = std::max(worst_a, p.at("delta_e").at("A").get<double>());
         // Leave one out: no patch is predicted from its own measurement (which would give it
         // back, RMSE 0), and the prediction is another measured shape, not the measurement.
-        if (nn) EXPECT_GT(p.at("rmse").get<double>(), 1e-4);
+        if (nn) {
+          EXPECT_GT(p.at("rmse").get<double>(), 1e-4);
+        }
       }
       // Metamerism is real: some reconstruction differs from its measurement under A.
       EXPECT_GT(worst_a, 0.1);
       const auto& summary = set.at("summary");
-      if (exact) EXPECT_LE(summary.at("delta_e_d65").at("max").get<double>(), 0.01);
+      if (exact) {
+        EXPECT_LE(summary.at("delta_e_d65").at("max").get<double>(), 0.01);
+      }
       for (const std::string& l : lights) {
         const auto& d = summary.at("delta_e").at(l);
         EXPECT_LE(d.at("median").get<double>(), d.at("p95").get<double>()) << l;
@@ -214,8 +221,9 @@ void check_tables(const nlohmann::json& doc, const std::string& md, const e2e::R
   ASSERT_EQ(doc.at("rgb_renderer").size(), 4u);
   for (const auto& b : doc.at("rgb_renderer")) {
     EXPECT_EQ(b.at("patches").size(), b.at("set") == "ColorChecker" ? 24u : 190u);
-    for (const std::string& l : lights)
+    for (const std::string& l : lights) {
       EXPECT_GT(b.at("delta_e").at(l).at("max").get<double>(), 0.1) << l;
+    }
   }
   EXPECT_TRUE(fixed_filters);
   // The stdout summary is the Markdown table.
@@ -276,7 +284,9 @@ void check_models_against_rgb2spec(const nlohmann::json& doc) {
           const double n50 = n[l]["median"], n95 = n[l]["p95"], nmax = n[l]["max"];
           const double f50 = fit[l]["median"], f95 = fit[l]["p95"], fmax = fit[l]["max"];
           EXPECT_LT(n50, f50);
-          if (l == "A" || l == "FL11" || l == "LED-B3") EXPECT_LT(n95, f95);
+          if (l == "A" || l == "FL11" || l == "LED-B3") {
+            EXPECT_LT(n95, f95);
+          }
           EXPECT_LE(n50, nat[l]["median"].get<double>() + 0.05);
           EXPECT_NEAR(table[l]["median"].get<double>(), f50, 0.05);
           ahead += (n50 < f50) + (n95 < f95) + (nmax < fmax);
@@ -310,9 +320,10 @@ void check_table_against_model(const nlohmann::json& doc) {
       const auto& table = summary_of(doc, "natural, render-time table", space, set).at("delta_e");
       const auto& solved = summary_of(doc, "natural", space, set).at("delta_e");
       for (const char* light : {"A", "FL11"})
-        for (const char* stat : {"median", "p95"})
+        for (const char* stat : {"median", "p95"}) {
           EXPECT_NEAR(table[light][stat].get<double>(), solved[light][stat].get<double>(), 0.05)
               << light << " " << stat;
+        }
     }
 }
 

@@ -136,7 +136,9 @@ TEST(Guarantees, NoWrittenPathIsAnInputOrAnotherOutput) {
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("refusing"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(s / "out/ramp.exr")) << "refused before any work";
-    for (const auto& [f, bytes] : original) EXPECT_EQ(e2e::slurp(s / f), bytes) << f;
+    for (const auto& [f, bytes] : original) {
+      EXPECT_EQ(e2e::slurp(s / f), bytes) << f;
+    }
     EXPECT_EQ(e2e::slurp(s / "cfg.ocio"), config);
     EXPECT_TRUE(fs::is_symlink(s / "soft.png"));
   }
@@ -244,9 +246,10 @@ TEST(Guarantees, UpToDateMeansTheSameFileWouldBeWritten) {
   std::set<std::string> covered;
   for (const KeyCase& c : cases) covered.insert(c.key);
   for (const spectralize::SettingSpec& spec : spectralize::settings_schema())
-    if (spec.applies(spectralize::kIngest))
+    if (spec.applies(spectralize::kIngest)) {
       EXPECT_TRUE(covered.count(std::string(spec.key)))
           << "setting '" << spec.key << "' has no case: say which files it redoes";
+    }
   // The baseline, kept aside; each case reruns on a fresh copy of it.
   const std::string cd = "cd " + s.dir.string() + " &&";
   auto r = run("ingest lib -o base -q", cd);
@@ -432,11 +435,12 @@ TEST(Guarantees, ShardsAndMergesAreChecked) {
   }
   EXPECT_FALSE(fs::exists(s / "bad"));
   // A batch in 2 shards, merged.
-  for (int i = 0; i < 2; ++i)
+  for (int i = 0; i < 2; ++i) {
     ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "sh") + " -q --shard " +
                   std::to_string(i) + "/2")
                   .exit_code,
               0);
+  }
   const std::string p0 = s / "sh/spectralize-ingest.part-0-of-2.jsonl";
   const std::string p1 = s / "sh/spectralize-ingest.part-1-of-2.jsonl";
   r = run("ingest --merge -o " + (s / "sh") + " -q");
@@ -537,9 +541,9 @@ TEST(Guarantees, ExitCodesFollowOnePolicy) {
     std::string path;
     ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
   } unmount{mnt};
-  for (const std::string args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/o.exr",
-                                 "ingest " + (s / "lib") + " -o " + mnt + "/lib",
-                                 "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
+  for (const std::string& args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/o.exr",
+                                  "ingest " + (s / "lib") + " -o " + mnt + "/lib",
+                                  "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
     { std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x'); }
     auto r = run("-q " + args);
     EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;

@@ -68,7 +68,9 @@ TEST(Hardening, BadPixelsAreCountedAndWrittenFinite) {
   EXPECT_EQ(rep["black_pixels"], 1);
   EXPECT_EQ(rep["half_overflow_pixels"], 1);
   e2e::Exr e = e2e::read_exr(s / "out.exr");
-  for (float v : e.pixels) ASSERT_TRUE(std::isfinite(v));
+  for (float v : e.pixels) {
+    ASSERT_TRUE(std::isfinite(v));
+  }
 }
 
 TEST(Hardening, AbsurdAndEmptyHeadersFailFast) {

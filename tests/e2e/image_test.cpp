@@ -107,7 +107,9 @@ TEST(CliImage, HdriIsExactInFloatWithTheSpectralLayout) {
       if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) continue;
       auto want = mul(kRec709, rgb[0], rgb[1], rgb[2]);
       worst = std::max(worst, rel(xyz[static_cast<std::size_t>(y) * e.width + x], want));
-      for (const auto& b : bands) ASSERT_GE(e.at(x, y, b.first), 0.0f);  // non-negative
+      for (const auto& b : bands) {
+        ASSERT_GE(e.at(x, y, b.first), 0.0f);  // non-negative
+      }
       // The preview is the spectrum's colour back in Linear Rec.709: the input again.
       for (int c = 0; c < 3; ++c)
         worst_preview = std::max(worst_preview, double(std::abs(e.at(x, y, c) - rgb[c]) /
@@ -151,7 +153,9 @@ TEST(CliImage, SmoothModelImagesAreExactAndLabelled) {
       if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) continue;
       worst = std::max(worst, rel(xyz[static_cast<std::size_t>(y) * e.width + x],
                                   mul(kRec709, rgb[0], rgb[1], rgb[2])));
-      for (const auto& b : bands) ASSERT_GE(e.at(x, y, b.first), 0.0f);
+      for (const auto& b : bands) {
+        ASSERT_GE(e.at(x, y, b.first), 0.0f);
+      }
     }
   EXPECT_LE(worst, 1e-5);
   Json rep = read_json(s / "h.json");
@@ -466,8 +470,9 @@ TEST(CliImage, GreyAndSixteenBitInputs) {
   ASSERT_EQ(run(kImages + "grey_ramp8.png -o " + (s / "g.exr")).exit_code, 0);
   e2e::Exr g = e2e::read_exr(s / "g.exr");
   // A grey input gives a neutral preview: R = G = B to HALF precision.
-  for (int x = 0; x < g.width; ++x)
+  for (int x = 0; x < g.width; ++x) {
     EXPECT_NEAR(g.at(x, 3, 0), g.at(x, 3, 1), 2e-3 * std::max(0.01f, g.at(x, 3, 1)) + 1e-4);
+  }
   auto r =
       run(kImages + "colorchecker_srgb16.png -o " + (s / "c.exr") + " --report " + (s / "r.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -495,7 +500,9 @@ TEST(CliImage, PreviewsAreTheInputUnderAnyReferenceIlluminant) {
     for (int x = 0; x < g.width; x += 3) {
       const double v = px[static_cast<std::size_t>(3 * g.width + x) * in->spec().nchannels] / 255.0;
       const double linear = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(g.at(x, 3, c), linear, 1e-4 + 1e-4 * linear) << x;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(g.at(x, 3, c), linear, 1e-4 + 1e-4 * linear) << x;
+      }
     }
   }
 }

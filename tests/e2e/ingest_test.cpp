@@ -132,7 +132,9 @@ TEST(Ingest, RerunsSkipWhatIsUpToDate) {
   // Not rewritten (the time above), and not even decoded: a stat and a header read take well
   // under 50 ms even on a loaded machine (1e-3 was flaky under parallel tests).
   for (const Json& j : m)
-    if (j.value("status", "") == "up_to_date") EXPECT_LT(j["seconds"].get<double>(), 0.05);
+    if (j.value("status", "") == "up_to_date") {
+      EXPECT_LT(j["seconds"].get<double>(), 0.05);
+    }
   // The input changes: converted again.
   fs::last_write_time(
       s / "lib/walls/brick_BaseColor.png",
@@ -168,8 +170,9 @@ TEST(Ingest, RerunRecordsSayHowEachFileWasDecided) {
     const Json a = record(first, name), b = record(again, name);
     ASSERT_EQ(a["status"], "converted");
     ASSERT_EQ(b["status"], "up_to_date");
-    for (const char* key : {"colorspace", "colorspace_reason", "mode", "mode_reason"})
+    for (const char* key : {"colorspace", "colorspace_reason", "mode", "mode_reason"}) {
       EXPECT_EQ(b[key], a[key]) << key;
+    }
   }
   const Json data = record(again, "brick_Normal.png");
   EXPECT_EQ(data["status"], "skipped_data");
@@ -246,7 +249,9 @@ TEST(Ingest, StaleTemporariesOfAnyOutputGoLiveOnesStay) {
   ::kill(holder, SIGKILL);
   ::waitpid(holder, nullptr, 0);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const auto& f : stale) EXPECT_FALSE(fs::exists(f)) << f;
+  for (const auto& f : stale) {
+    EXPECT_FALSE(fs::exists(f)) << f;
+  }
   EXPECT_TRUE(fs::exists(live));
   EXPECT_TRUE(fs::exists(keep));
   EXPECT_EQ(
@@ -290,10 +295,12 @@ TEST(IngestSlow, KilledBatchesFinishOnRerun) {
     EXPECT_EQ(
         m.back()["summary"]["up_to_date"].get<int>() + m.back()["summary"]["converted"].get<int>(),
         6);
-    for (const auto& e : fs::directory_iterator(s / "out"))
+    for (const auto& e : fs::directory_iterator(s / "out")) {
       EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
-    for (int i = 0; i < 6; ++i)
+    }
+    for (int i = 0; i < 6; ++i) {
       EXPECT_EQ(e2e::read_exr(s / ("out/map" + std::to_string(i) + ".exr")).width, 1024);
+    }
   }
 }
 

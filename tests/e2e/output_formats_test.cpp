@@ -109,8 +109,9 @@ TEST(OutputFormats, WhatIsAcceptedIsWhatTheFileHolds) {
     ASSERT_EQ(r.exit_code, 0) << c.out << ": " << r.err;
     const OIIO::ImageSpec spec = spec_of(s / c.out);
     EXPECT_EQ(std::string(spec.format.c_str()), c.type) << c.out;
-    if (!c.compression.empty())
+    if (!c.compression.empty()) {
       EXPECT_EQ(spec.get_string_attribute("compression"), c.compression) << c.out;
+    }
     EXPECT_EQ(spec.tile_width, c.tile) << c.out;
   }
   // PNG's deflate level is honoured: level 0 stores, 9 compresses (file sizes).
@@ -169,7 +170,9 @@ TEST(OutputFormats, FloatOverflowIsNamedAsSuch) {
   auto in_px = OIIO::ImageInput::open(s / "f.exr");
   std::vector<float> px(8 * 4 * 3);
   ASSERT_TRUE(in_px && in_px->read_image(0, 0, 0, 3, OIIO::TypeFloat, px.data()));
-  for (float v : px) EXPECT_TRUE(std::isfinite(v)) << v;  // clamped, never inf or NaN
+  for (float v : px) {
+    EXPECT_TRUE(std::isfinite(v)) << v;  // clamped, never inf or NaN
+  }
   // Half output of the same: HALF's range, and the advice that fits.
   r = run("--to-rgb " + in + " -o " + (s / "h.exr") + " --format half");
   ASSERT_EQ(r.exit_code, 0) << r.err;

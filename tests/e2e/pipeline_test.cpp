@@ -82,7 +82,9 @@ TEST(Pipeline, StudioConfigDefaultsComeFromItsRoles) {
   EXPECT_EQ(rep["preview_colorspace"], "ACEScg");
   const auto c = chromaticities(s / "o.exr");
   ASSERT_EQ(c.size(), 8u);
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(c[i], kAp1[i], 1e-5);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_NEAR(c[i], kAp1[i], 1e-5);
+  }
   // The previews are the input itself (an ACEScg pixel previewed in ACEScg), to HALF precision.
   const e2e::Exr o = e2e::read_exr(s / "o.exr");
   EXPECT_NEAR(o.at(1, 1, 0), 0.3, 1e-3);
@@ -147,11 +149,14 @@ colorspaces:
   const Json white = color_json("--color 1,1,1 --config " + (s / "v1.ocio"));
   EXPECT_EQ(white["colorspace"], "ACES - ACEScg");
   const double d65[3] = {0.3127 / 0.3290, 1.0, 0.3583 / 0.3290};
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(white["input_xyz"][i].get<double>(), d65[i], 2e-4);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(white["input_xyz"][i].get<double>(), d65[i], 2e-4);
+  }
   const Json a = color_json("--color 0.7,0.2,0.1 --config " + (s / "v1.ocio"));
   const Json b = color_json("--color 0.7,0.2,0.1 --colorspace ACEScg");
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(a["input_xyz"][i].get<double>(), b["input_xyz"][i].get<double>(), 2e-5);
+  }
   // A config with no way to XYZ fails with a message that says what is missing.
   std::string bare = e2e::slurp(s / "v1.ocio");
   bare = std::regex_replace(bare, std::regex("ACES - ACES2065-1"), "Studio Reference");
@@ -164,8 +169,9 @@ colorspaces:
   EXPECT_NE(r.err.find("OCIO config '" + (s / "bare.ocio") + "' has no route to CIE XYZ"),
             std::string::npos)
       << r.err;
-  for (const char* lack : {"cie_xyz_d65_interchange", "aces_interchange", "'ACES2065-1'"})
+  for (const char* lack : {"cie_xyz_d65_interchange", "aces_interchange", "'ACES2065-1'"}) {
     EXPECT_NE(r.err.find(lack), std::string::npos) << lack << ": " << r.err;
+  }
   // A nuke-default-like config (reference 'linear', a scene_linear role): the same, also
   // through --to-rgb's and the image command's option handling.
   std::string nuke =
@@ -250,7 +256,9 @@ TEST(Pipeline, ToRgbWritesAnyFormatDisplayAndAsLit) {
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeUInt8, back.data()));
   auto src = OIIO::ImageInput::open(kImages + "grey_ramp8.png");
   ASSERT_TRUE(src->read_image(0, 0, 0, 1, OIIO::TypeUInt8, orig.data()));
-  for (int x = 0; x < 64; ++x) EXPECT_NEAR(back[(3 * 64 + x) * 3], orig[3 * 64 + x], 1) << x;
+  for (int x = 0; x < 64; ++x) {
+    EXPECT_NEAR(back[(3 * 64 + x) * 3], orig[3 * 64 + x], 1) << x;
+  }
   // As lit under A: a white surface reflects A's light: red well above blue.
   ASSERT_EQ(run("--to-rgb " + (s / "grey.exr") + " -o " + (s / "a.exr") +
                 " --illuminant A --reflected as-lit --format float -q")

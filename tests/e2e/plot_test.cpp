@@ -146,15 +146,17 @@ std::string svg_title(const std::string& svg) {
 // (smaller y) -- the plot's ordering is the data's, whatever the axis scale.
 void expect_curve_is(const Polyline& line, const std::vector<double>& values) {
   ASSERT_EQ(line.points.size(), values.size());
-  for (std::size_t i = 1; i < values.size(); ++i)
+  for (std::size_t i = 1; i < values.size(); ++i) {
     EXPECT_GT(line.points[i].first, line.points[i - 1].first) << "x must grow, sample " << i;
+  }
   const double span = *std::max_element(values.begin(), values.end());
   for (std::size_t i = 0; i < values.size(); ++i)
     for (std::size_t j = 0; j < values.size(); ++j)
-      if (values[i] > values[j] + 0.01 * span)
+      if (values[i] > values[j] + 0.01 * span) {
         EXPECT_LT(line.points[i].second, line.points[j].second)
             << "sample " << i << " (" << values[i] << ") must be above sample " << j << " ("
             << values[j] << ")";
+      }
 }
 
 // The CSV spectrum `spectralize --color ARGS` prints.
@@ -244,7 +246,9 @@ TEST(PlotColor, SvgHasOnePolylinePointPerSampleDrawingThePrintedSpectrum) {
 
 // Truth: the title names the model the spectrum was chosen with (when the tool has --model).
 TEST(PlotColor, TitleNamesTheModel) {
-  if (run("--help").out.find("--model") == std::string::npos) GTEST_SKIP() << "no --model flag";
+  if (run("--help").out.find("--model") == std::string::npos) {
+    GTEST_SKIP() << "no --model flag";
+  }
   Scratch dir("plot");
   auto r = run("--color 0.21,0.72,0.15 --mode reflectance --model smooth -o " + dir / "s.svg");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -268,16 +272,18 @@ TEST(PlotColor, SeveralColoursGiveDistinctCurvesAndALegend) {
     strokes.insert(l.stroke);
   }
   EXPECT_EQ(strokes.size(), 3u) << "curve colours must differ";
-  for (const char* label : {">0.8,0.2,0.1<", ">0.1,0.6,0.2<", ">0.2,0.3,0.9<"})
+  for (const char* label : {">0.8,0.2,0.1<", ">0.1,0.6,0.2<", ">0.2,0.3,0.9<"}) {
     EXPECT_NE(svg.find(label), std::string::npos) << "legend label " << label;
+  }
 
   r = run(colours + " --mode reflectance -o " + dir / "m.png");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Picture p = read_picture(dir / "m.png");
   ASSERT_EQ(p.width, kWidth);
-  for (const auto& c : kCurve)
+  for (const auto& c : kCurve) {
     EXPECT_GT(count_near(p, c, 12, kAreaX0, kAreaY0, kAreaX1, kAreaY1), 200)
         << "curve colour " << c[0] << "," << c[1] << "," << c[2] << " missing";
+  }
 }
 
 // Truth: the extension decides: JPEG, TIFF and OpenEXR plots are images of the documented size;
@@ -340,8 +346,9 @@ TEST(PlotPixel, SpectralizeOutputPixelIsDrawnAsStored) {
   ASSERT_EQ(lines.size(), 1u);
   expect_curve_is(lines[0], values);
   const std::string title = svg_title(svg);
-  for (const char* part : {"checker.exr", "(30, 20)", "reflective", "81 bands", "380-780"})
+  for (const char* part : {"checker.exr", "(30, 20)", "reflective", "81 bands", "380-780"}) {
     EXPECT_NE(title.find(part), std::string::npos) << part << " missing from title: " << title;
+  }
 
   r = run("--plot-pixel 30,20 --plot-pixel 60,50 " + exr + " -o " + dir / "px.png");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -349,8 +356,9 @@ TEST(PlotPixel, SpectralizeOutputPixelIsDrawnAsStored) {
   ASSERT_EQ(p.width, kWidth);
   ASSERT_EQ(p.height, kHeight);
   EXPECT_GT(distinct_colours(p), 100);
-  for (int i = 0; i < 2; ++i)
+  for (int i = 0; i < 2; ++i) {
     EXPECT_GT(count_near(p, kCurve[i], 12, kAreaX0, kAreaY0, kAreaX1, kAreaY1), 300) << i;
+  }
   EXPECT_EQ(dir.files(), (std::vector<std::string>{"checker.exr", "px.png", "px.svg"}));
 }
 
@@ -423,8 +431,9 @@ TEST(PlotErrors, BadInputsGiveTheStatedExitCodeAndMessage) {
   for (const Case& c : cases) {
     auto r = run(c.args);
     EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.err;
-    for (const auto& m : c.message)
+    for (const auto& m : c.message) {
       EXPECT_NE(r.err.find(m), std::string::npos) << c.args << ": '" << m << "' not in " << r.err;
+    }
   }
   std::string eleven;
   for (int i = 0; i < 11; ++i) eleven += " --color 0.1,0.2,0.3";

@@ -126,7 +126,7 @@ TEST(Robustness, FailedWritesAreFailuresForEveryOutput) {
   fs::remove(s / "full.exr");
   // ulimit -f counts 1024-byte blocks: one block short of the whole file.
   const std::string limit = "ulimit -f " + std::to_string(size / 1024 - 1) + ";";
-  for (const std::string args :
+  for (const std::string& args :
        {in + " -o " + (s / "out.exr"), in + " -o " + (s / "out.exr") + " --format float",
         in + " -o " + (s / "out.exr") + " --tile 32"}) {
     auto r = run("-q " + args, limit);
@@ -155,7 +155,9 @@ TEST(Robustness, FailedWritesAreFailuresForEveryOutput) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("/dev/full"), std::string::npos) << r.err;
   // Only the image written before the report failed... and nothing else.
-  for (const auto& name : s.files()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
+  for (const auto& name : s.files()) {
+    EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
+  }
 }
 
 // --- 3. The report path ---
@@ -167,7 +169,7 @@ TEST(Robustness, ReportPathIsCheckedBeforeAnyWork) {
   fs::copy_file(kImages + "hdri_forest_256x128.exr", s / "one.exr");
   const std::string original = e2e::slurp(s / "one.exr");
   fs::create_symlink("one.exr", s / "alias.json");
-  for (const std::string report :
+  for (const std::string& report :
        {s / "one.exr", s / "alias.json", s.dir.string() + "/./one.exr"}) {
     auto r = run((s / "one.exr") + " -o " + (s / "out.exr") + " --report " + report);
     EXPECT_EQ(r.exit_code, 1) << report << ": " << r.err;
@@ -208,7 +210,7 @@ TEST(Robustness, ReportPathIsCheckedBeforeAnyWork) {
   fs::copy_file(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", s / "cfg.ocio");
   const std::string config = e2e::slurp(s / "cfg.ocio");
   fs::copy_file(s / "cfg.ocio", s / "cfg.exr");  // OCIO reads a config by any name
-  for (const std::string cfg : {"cfg.ocio", "cfg.exr"}) {
+  for (const std::string& cfg : {"cfg.ocio", "cfg.exr"}) {
     const std::string args =
         cfg == "cfg.ocio" ? " -o " + (s / "g.exr") + " --report " + (s / cfg) : " -o " + (s / cfg);
     r = run((s / "one.exr") + " -q --config " + (s / cfg) + args);
@@ -252,8 +254,9 @@ TEST(Robustness, AlphaFollowsItsStatedRules) {
   const e2e::Exr w = e2e::read_exr(s / "w.exr");
   const int a = w.channel("A");
   ASSERT_GE(a, 0);
-  for (const auto& [c, nm] : e2e::spectral_channels(w, "T."))
+  for (const auto& [c, nm] : e2e::spectral_channels(w, "T.")) {
     EXPECT_NEAR(w.at(1, 1, c), 64 / 255.0, 1e-5) << nm;
+  }
   EXPECT_NEAR(w.at(1, 1, a), 64 / 255.0, 1e-6);
   EXPECT_NEAR(w.at(1, 1, w.channel("R")), 64 / 255.0, 1e-4);  // previews are premultiplied too
   // A source without alpha: no alpha channel, neither in the file nor through the plugin.
@@ -271,7 +274,9 @@ TEST(Robustness, AlphaFollowsItsStatedRules) {
   EXPECT_EQ(read_json(s / "ba.json")["invalid_alpha_pixels"], 3);
   EXPECT_NE(r.err.find("alpha"), std::string::npos) << r.err;
   const e2e::Exr ba = e2e::read_exr(s / "ba.exr");
-  for (float v : ba.pixels) ASSERT_TRUE(std::isfinite(v));
+  for (float v : ba.pixels) {
+    ASSERT_TRUE(std::isfinite(v));
+  }
   EXPECT_EQ(ba.at(0, 0, ba.channel("A")), 0.0f);
   EXPECT_EQ(ba.at(1, 0, ba.channel("A")), 1.0f);
   EXPECT_EQ(ba.at(2, 0, ba.channel("A")), 1.0f);
@@ -315,7 +320,9 @@ TEST(Robustness, OutputTagsDescribeTheWrittenRgb) {
   ASSERT_TRUE(chroma);
   const float* c = static_cast<const float*>(chroma->data());
   const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(c[i], ap1[i], 1e-5) << i;
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_NEAR(c[i], ap1[i], 1e-5) << i;
+  }
   EXPECT_EQ(in->spec().get_string_attribute("colorInteropID"), "lin_ap1_scene");
   // Bispectral files are refused, not reduced to their diagonal.
   write_image(s / "bi.exr", 2, 2,
@@ -436,7 +443,9 @@ TEST(Robustness, EveryFormatSaysItsColourSpace) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const IccRead icc = read_icc(s / c.file);
     ASSERT_TRUE(icc.ok);
-    for (int i = 0; i < 8; ++i) EXPECT_NEAR(icc.xy[i], c.xy[i], 2e-4) << i;
+    for (int i = 0; i < 8; ++i) {
+      EXPECT_NEAR(icc.xy[i], c.xy[i], 2e-4) << i;
+    }
     EXPECT_NEAR(icc.trc_half, c.trc_half, 2e-4);
     EXPECT_EQ(icc.description, c.description);
   }
@@ -456,8 +465,9 @@ TEST(Robustness, EveryFormatSaysItsColourSpace) {
   const auto* chroma =
       in->spec().find_attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
   ASSERT_TRUE(chroma);
-  for (int i = 0; i < 8; ++i)
+  for (int i = 0; i < 8; ++i) {
     EXPECT_NEAR(static_cast<const float*>(chroma->data())[i], rec709[i], 1e-5) << i;
+  }
   // No slot: a warning on stderr and in the report, naming the file and the assumption.
   const std::pair<std::string, std::string> unsaid[] = {
       {"cg.hdr", "--colorspace ACEScg"}, {"log.tif", "--format uint16 --colorspace ACEScct"}};
@@ -579,7 +589,9 @@ TEST(Robustness, ToRgbNamesWhatItCannotWrite) {
   EXPECT_NE(r.err.find("exceed HALF's range"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("S0.5x0nm"), std::string::npos) << r.err;
   const e2e::Exr out = e2e::read_exr(s / "rgb.exr");
-  for (float v : out.pixels) EXPECT_TRUE(std::isfinite(v));
+  for (float v : out.pixels) {
+    EXPECT_TRUE(std::isfinite(v));
+  }
   EXPECT_LE(out.at(2, 0, out.channel("G")), 65504.0f);
   // The NaN and Inf samples count as 0: the same pixels as a file with zeros there.
   with_odd[0] = 0.0f;
@@ -588,8 +600,9 @@ TEST(Robustness, ToRgbNamesWhatItCannotWrite) {
   ASSERT_EQ(run("--to-rgb " + (s / "zeros.exr") + " -q -o " + (s / "zeros_rgb.exr")).exit_code, 0);
   const e2e::Exr ref = e2e::read_exr(s / "zeros_rgb.exr");
   for (int x : {0, 1})
-    for (const char* c : {"R", "G", "B"})
+    for (const char* c : {"R", "G", "B"}) {
       EXPECT_EQ(out.at(x, 0, out.channel(c)), ref.at(x, 0, ref.channel(c))) << x << c;
+    }
   // No band inside 360-830 nm: refused, nothing written.
   write_image(s / "ir.exr", 2, 2, {"S0.900nm", "S0.1000nm"}, OIIO::TypeFloat);
   r = run("--to-rgb " + (s / "ir.exr") + " -o " + (s / "ir_rgb.exr"));
@@ -669,7 +682,7 @@ TEST(Robustness, NonRegularInputsAndAbsurdSizesAreRefusedAtOnce) {
   Scratch s;
   ASSERT_EQ(::mkfifo((s / "in.exr").c_str(), 0600), 0);
   ASSERT_EQ(::mkfifo((s / "cfg.ocio").c_str(), 0600), 0);
-  for (const std::string args :
+  for (const std::string& args :
        {(s / "in.exr") + " -o " + (s / "o.exr"), "/dev/zero -o " + (s / "o.exr"),
         "--to-rgb " + (s / "in.exr") + " -o " + (s / "o.exr"),
         "--plot-pixel 0,0 /dev/zero -o " + (s / "o.png"),

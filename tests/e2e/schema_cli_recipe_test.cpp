@@ -59,8 +59,12 @@ TEST(SchemaCliRecipeSlow, AcceptAndRefuseTheSameValues) {
               .c_str());
       const bool recipe_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
       EXPECT_EQ(cli.exit_code == 0, recipe_ok) << cli.err << e2e::slurp(log);
-      if (!recipe_ok) EXPECT_NE(e2e::slurp(log).find(value), std::string::npos) << e2e::slurp(log);
-      if (cli.exit_code != 0) EXPECT_NE(cli.err.find(value), std::string::npos) << cli.err;
+      if (!recipe_ok) {
+        EXPECT_NE(e2e::slurp(log).find(value), std::string::npos) << e2e::slurp(log);
+      }
+      if (cli.exit_code != 0) {
+        EXPECT_NE(cli.err.find(value), std::string::npos) << cli.err;
+      }
     }
   }
 }

@@ -183,7 +183,9 @@ TEST_P(BoundedModel, WhiteSurfaceIsThePerfectReflector) {
   const Spectralizer sp = make_model(GetParam(), Mode::reflectance);
   const SpectrumResult r = sp.spectralize(d65_white());
   ASSERT_EQ(r.status, Status::ok) << r.message;
-  for (double v : r.values) EXPECT_EQ(v, 1.0);
+  for (double v : r.values) {
+    EXPECT_EQ(v, 1.0);
+  }
 }
 
 TEST_P(SmoothestModel, GreySurfacesAreFlatWithoutSnapping) {
@@ -193,7 +195,9 @@ TEST_P(SmoothestModel, GreySurfacesAreFlatWithoutSnapping) {
   for (double level : {0.02, 0.18, 0.5, 0.9}) {
     const SpectrumResult r = sp.spectralize(level * d65_white());
     ASSERT_EQ(r.status, Status::ok);
-    for (double v : r.values) EXPECT_NEAR(v, level, 1e-6 * level);
+    for (double v : r.values) {
+      EXPECT_NEAR(v, level, 1e-6 * level);
+    }
   }
 }
 
@@ -317,7 +321,9 @@ TEST_P(BoundedModel, ColoursMappedOntoTheLocusEdgeAreExact) {
         if (r.status == Status::invalid) continue;  // negative luminance: nothing to check
         for (double v : r.values) {
           ASSERT_GE(v, 0.0);
-          if (mode == Mode::reflectance) ASSERT_LE(v, 1.0);
+          if (mode == Mode::reflectance) {
+            ASSERT_LE(v, 1.0);
+          }
         }
         const Xyz got = integrate(sp, ref, r.values);
         EXPECT_LE(rel_err(got, r.target), 1e-9) << grid << " " << to_string(mode) << " XYZ " << c.X

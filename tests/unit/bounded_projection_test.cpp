@@ -101,7 +101,9 @@ TEST(BoundedProjection, AnExactBoundedSpectrumIsItsOwnProjection) {
   const Projection p = project_exact(w, x, image(w, x), 1.0);
   ASSERT_TRUE(p.converged);
   EXPECT_EQ(p.iterations, 0);
-  for (std::size_t i = 0; i < x.size(); ++i) EXPECT_DOUBLE_EQ(p.values[i], x[i]);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    EXPECT_DOUBLE_EQ(p.values[i], x[i]);
+  }
 }
 
 // The control: a looser tolerance stops sooner (never later) and keeps its promise; an
@@ -131,7 +133,9 @@ TEST(BoundedProjection, PolishKeepsZerosAndReachesTheTarget) {
   std::vector<double> polished = x;
   ASSERT_TRUE(polish_exact(w, polished, target));
   EXPECT_LE(relative(image(w, polished), target), 1e-12);
-  for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(polished[i], 0.0);
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(polished[i], 0.0);
+  }
 }
 
 }  // namespace

@@ -50,14 +50,20 @@ TEST(ClipBox, AHalfSpaceThroughTheCubeLeavesItsVolume) {
   const std::vector<Plane> planes = {plane({1, 1, 1}, 1.5)};
   const ClippedCell c = clip_box({0, 0, 0}, {1, 1, 1}, planes, 1e-12);
   EXPECT_NEAR(volume(c), 0.5, 1e-12);
-  for (const ClipVertex& v : c.vertices) EXPECT_LE(v.p.X + v.p.Y + v.p.Z, 1.5 + 1e-12);
+  for (const ClipVertex& v : c.vertices) {
+    EXPECT_LE(v.p.X + v.p.Y + v.p.Z, 1.5 + 1e-12);
+  }
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0, 1);
   for (int k = 0; k < 2000; ++k) {
     const Xyz p{u(rng), u(rng), u(rng)};
     const double side = p.X + p.Y + p.Z - 1.5;
-    if (side < -1e-9) EXPECT_GE(holders(c, p, false), 1) << p.X << "," << p.Y << "," << p.Z;
-    if (side > 1e-9) EXPECT_EQ(holders(c, p, false), 0);
+    if (side < -1e-9) {
+      EXPECT_GE(holders(c, p, false), 1) << p.X << "," << p.Y << "," << p.Z;
+    }
+    if (side > 1e-9) {
+      EXPECT_EQ(holders(c, p, false), 0);
+    }
   }
 }
 
@@ -89,7 +95,9 @@ TEST(ClipBox, ACornerCutByManyPlanesIsCoveredWhollyAndCornersAreKept) {
   int corners = 0;
   for (const ClipVertex& v : c.vertices) {
     corners += v.corner >= 0;
-    for (const Plane& pl : planes) EXPECT_LE(dot(pl.n, v.p), pl.d + 1e-12);
+    for (const Plane& pl : planes) {
+      EXPECT_LE(dot(pl.n, v.p), pl.d + 1e-12);
+    }
   }
   int kept = 0;  // the box's corners inside every plane are vertices of the clipped cell
   for (int k = 0; k < 8; ++k) {
@@ -111,7 +119,9 @@ TEST(ClipBox, ACornerCutByManyPlanesIsCoveredWhollyAndCornersAreKept) {
       EXPECT_GE(holders(c, p, false), 1);
       ++inside;
     }
-    if (worst > 1e-9) EXPECT_EQ(holders(c, p, false), 0);
+    if (worst > 1e-9) {
+      EXPECT_EQ(holders(c, p, false), 0);
+    }
   }
   EXPECT_GT(inside, 1000);
 }
@@ -141,7 +151,9 @@ TEST(BarycentricMap, GivesBackTheVertices) {
     const Xyz d = v[k] - Xyz{m[9], m[10], m[11]};
     const double w[3] = {m[0] * d.X + m[1] * d.Y + m[2] * d.Z, m[3] * d.X + m[4] * d.Y + m[5] * d.Z,
                          m[6] * d.X + m[7] * d.Y + m[8] * d.Z};
-    for (int j = 1; j < 4; ++j) EXPECT_NEAR(w[j - 1], k == j ? 1.0 : 0.0, 1e-12);
+    for (int j = 1; j < 4; ++j) {
+      EXPECT_NEAR(w[j - 1], k == j ? 1.0 : 0.0, 1e-12);
+    }
   }
 }
 

@@ -71,7 +71,9 @@ TEST(ColourDifference, MatchesSharmaWuDalalTestData) {
 }
 
 TEST(ColourDifference, EqualColoursHaveZeroDifference) {
-  for (const SharmaPair& p : kSharma) EXPECT_EQ(delta_e_2000(p.lab1, p.lab1), 0.0);
+  for (const SharmaPair& p : kSharma) {
+    EXPECT_EQ(delta_e_2000(p.lab1, p.lab1), 0.0);
+  }
   EXPECT_EQ(delta_e_2000({0, 0, 0}, {0, 0, 0}), 0.0);
 }
 

@@ -63,14 +63,18 @@ TEST(ExactTable, LazyBlendsReproduceEveryColourOfTheGamut) {
       TableBlend b;
       if (!table.locate(t, b)) {
         ++outside;
-        if (t.Y > 0) EXPECT_FALSE(sp.in_gamut(t) && sp.gamut().contains((1 + 1e-6) * t));
+        if (t.Y > 0) {
+          EXPECT_FALSE(sp.in_gamut(t) && sp.gamut().contains((1 + 1e-6) * t));
+        }
         continue;
       }
       ++inside;
       table.blend_into(b, out.data());
       for (float v : out) {
         ASSERT_GE(v, 0.0f);
-        if (mode == Mode::reflectance) ASSERT_LE(v, 1.0f);
+        if (mode == Mode::reflectance) {
+          ASSERT_LE(v, 1.0f);
+        }
       }
       worst = std::max(worst, test::rel_err(integrate(sp, out), t));
     }

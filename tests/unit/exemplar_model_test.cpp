@@ -352,8 +352,9 @@ TEST(ExemplarModel, ContinuousAcrossTheEdgeOfAnExemplarsReach) {
       EXPECT_GT(detail(first, "exemplar_weight"), 1 / (1 + kC) - 1e-12);
       const std::vector<double> w = weights_of(fine.back());
       EXPECT_EQ(w[j], 0.0);
-      if (std::all_of(w.begin(), w.end(), [](double v) { return v == 0; }))
+      if (std::all_of(w.begin(), w.end(), [](double v) { return v == 0; })) {
         EXPECT_EQ(last.values, natural.spectralize_target(fine.back()).values);
+      }
       const double big = largest_step(model, coarse), small = largest_step(model, fine);
       EXPECT_LE(small, 0.25 * big) << "coarse " << big << " fine " << small;
     }
@@ -425,7 +426,9 @@ TEST(ExemplarModel, GreysNearAMeasuredNeutralTakeItsShape) {
     const std::vector<double> w = weights_of(t);
     if (std::any_of(w.begin(), w.end(), [](double v) { return v > 0; })) continue;
     const SpectrumResult r = sp.spectralize_target(t);
-    for (double v : r.values) EXPECT_NEAR(v, level, 1e-6 * level);
+    for (double v : r.values) {
+      EXPECT_NEAR(v, level, 1e-6 * level);
+    }
     ++flat;
   }
   EXPECT_GT(flat, 10);

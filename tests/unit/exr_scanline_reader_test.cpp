@@ -49,7 +49,7 @@ std::string write(const fs::path& dir, OIIO::TypeDesc type, const std::string& c
 TEST(ExrScanlineReader, ReadsWhatOiioReadsForEveryCompressionAndType) {
   TempDir t;
   const int w = 37, h = 300;
-  for (const OIIO::TypeDesc type : {OIIO::TypeHalf, OIIO::TypeFloat})
+  for (const OIIO::TypeDesc& type : {OIIO::TypeHalf, OIIO::TypeFloat})
     for (const char* c :
          {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"}) {
       SCOPED_TRACE(std::string(c) + " " + type.c_str());
@@ -75,8 +75,9 @@ TEST(ExrScanlineReader, ReadsWhatOiioReadsForEveryCompressionAndType) {
             std::find(spec.channelnames.begin(), spec.channelnames.end(), names[c2]) -
             spec.channelnames.begin());
       for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p)
-        for (int c2 = 0; c2 < 4; ++c2)
+        for (int c2 = 0; c2 < 4; ++c2) {
           ASSERT_EQ(got[p * 4 + c2], expected[p * 4 + index[c2]]) << "pixel " << p;
+        }
     }
 }
 

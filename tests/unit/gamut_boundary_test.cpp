@@ -114,16 +114,18 @@ TEST(SolidBoundary, TheSolidLiesInsideEveryFacetAndBlackAndWhiteOnIt) {
     EXPECT_LT(solid.distance(mul(inverse(frame), sp.weights().integrate(rho))), 1e-12);
   }
   // The sRGB cube lies inside the solid (docs/DESIGN.md §14).
-  for (int c = 0; c < 8; ++c)
+  for (int c = 0; c < 8; ++c) {
     EXPECT_LE(solid.distance({double(c & 1), double((c >> 1) & 1), double(c >> 2)}), 1e-12) << c;
+  }
 }
 
 TEST(LocusBoundary, EdgeSpectraAreTwoSampleLightsOfTheirChromaticity) {
   const Spectralizer sp{SpectralizerSettings{}};
   const std::vector<Xyz> w = own_weights(false);
   const LocusBoundary locus(sp.weights().columns(), sp.basis());
-  for (const Xyz& c : sp.weights().columns())
+  for (const Xyz& c : sp.weights().columns()) {
     EXPECT_LE(locus.distance({c.X / c.sum(), c.Y / c.sum(), 0}), 1e-12);
+  }
   const Xyz white{0.3127, 0.3290, 0};
   EXPECT_LT(locus.distance(white), -0.1);
   std::mt19937 rng(6);

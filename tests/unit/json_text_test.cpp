@@ -38,7 +38,9 @@ TEST(JsonText, Base64FollowsRfc4648) {
     EXPECT_EQ(base64(plain), coded);
     EXPECT_EQ(from_base64(coded), plain);
   }
-  for (const char* bad : {"Zm9", "Zm9v!", "Z===", "=Zm9"}) EXPECT_THROW(from_base64(bad), Error);
+  for (const char* bad : {"Zm9", "Zm9v!", "Z===", "=Zm9"}) {
+    EXPECT_THROW(from_base64(bad), Error);
+  }
 }
 
 TEST(JsonText, AnyNameRoundTripsThroughARecord) {

@@ -176,7 +176,9 @@ TEST(MapKind, EveryNameAsATdWouldDecideIt) {
                     << "), expected " << to_string(c.kind);
     failures += !ok;
     // A decision always says why.
-    if (v.kind != MapKind::none || v.needs_channels) EXPECT_FALSE(v.reason.empty()) << c.path;
+    if (v.kind != MapKind::none || v.needs_channels) {
+      EXPECT_FALSE(v.reason.empty()) << c.path;
+    }
   }
   EXPECT_EQ(failures, 0);
   EXPECT_GE(std::size(kNames), 120u);
@@ -267,10 +269,12 @@ TEST(MapKind, EditsExtendReplaceOrRemoveWords) {
   // Canonical text and refusals.
   EXPECT_EQ(check_name_edit("+MSK,-Metal", false), "+msk,-metal");
   EXPECT_EQ(check_name_edit("glow:emission,paint:reflectance", true), "glow:emission,paint");
-  for (const char* bad : {"+msk,nrm", "nor mal", "+", "-nosuchword", "a,,b"})
+  for (const char* bad : {"+msk,nrm", "nor mal", "+", "-nosuchword", "a,,b"}) {
     EXPECT_THROW(check_name_edit(bad, false), Error) << bad;
-  for (const char* bad : {"+sky:light", "-light:emission", "glow,+x", "-normal"})
+  }
+  for (const char* bad : {"+sky:light", "-light:emission", "glow,+x", "-normal"}) {
     EXPECT_THROW(check_name_edit(bad, true), Error) << bad;
+  }
 }
 
 // The README lists the table: every word with its kind and place, as the code has it.

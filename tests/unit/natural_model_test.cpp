@@ -150,12 +150,16 @@ TEST(NaturalModel, FallbackIsCountedAndOnlyNearTheBoundary) {
       const double rate = static_cast<double>(fallbacks) / n;
       std::printf("  %s %s: fallback %.2f%%\n", space.name, std::string(to_string(mode)).c_str(),
                   100 * rate);
-      if (std::string(space.name) == "Linear Rec.709") EXPECT_EQ(fallbacks, 0);
+      if (std::string(space.name) == "Linear Rec.709") {
+        EXPECT_EQ(fallbacks, 0);
+      }
       if (mode == Mode::reflectance && std::string(space.name) == "Linear Rec.2020") {
         EXPECT_GT(rate, 0.02);
         EXPECT_LT(rate, 0.20);
       }
-      if (mode == Mode::emission) EXPECT_LT(rate, 0.01);
+      if (mode == Mode::emission) {
+        EXPECT_LT(rate, 0.01);
+      }
     }
   }
 }

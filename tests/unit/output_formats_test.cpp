@@ -103,7 +103,9 @@ TEST(OutputFormats, TheSampleTypesHeldAreTheOnesKept) {
     if (!f.available || !f.refused.empty()) continue;
     for (const char* type : {"uint8", "uint16", "half", "float"}) {
       const Written w = write_read(path_for(t, f, type), type_of(type), 3);
-      if (f.holds(type)) ASSERT_TRUE(w.ok) << f.name << " " << type;
+      if (f.holds(type)) {
+        ASSERT_TRUE(w.ok) << f.name << " " << type;
+      }
       EXPECT_EQ(f.holds(type), w.ok && w.spec.format == type_of(type))
           << f.name << ": asked " << type << ", stored " << (w.ok ? w.spec.format.c_str() : "-");
     }
@@ -164,8 +166,9 @@ TEST(OutputFormats, CompressionsAreHonouredAndTheDefaultsAreTheWritersOwn) {
         const double step = type == OIIO::TypeUInt8    ? 1 / 255.0
                             : type == OIIO::TypeUInt16 ? 1 / 65535.0
                                                        : 0;
-        for (std::size_t i = 0; i < want.size(); ++i)
+        for (std::size_t i = 0; i < want.size(); ++i) {
           ASSERT_NEAR(a.px[i], want[i], step / 2 + 1e-7) << "lossless, sample " << i;
+        }
       }
       if (c.max_level > 0) {
         const Written lo =
@@ -210,8 +213,9 @@ TEST(OutputFormats, RefusedFormatsDoWhatTheReasonSays) {
     const Written w = write_read((t.dir / "a.ico").string(), OIIO::TypeUInt8, 3, 32, 32);
     EXPECT_TRUE(!w.ok || w.spec.nchannels == 4);
   }
-  if (refused("zfile"))
+  if (refused("zfile")) {
     EXPECT_FALSE(write_read((t.dir / "a.zfile").string(), OIIO::TypeFloat, 3).ok);
+  }
   if (refused("iff")) {  // tiles only: scanlines are refused
     OIIO::ImageSpec spec(16, 16, 3, OIIO::TypeUInt8);
     auto out = OIIO::ImageOutput::create((t.dir / "a.iff").string());
@@ -221,8 +225,9 @@ TEST(OutputFormats, RefusedFormatsDoWhatTheReasonSays) {
     (void)out->geterror();
     out->close();
   }
-  if (refused("jpeg2000"))
+  if (refused("jpeg2000")) {
     EXPECT_FALSE(write_read((t.dir / "a.jp2").string(), OIIO::TypeUInt8, 3, 16, 16).ok);
+  }
   // TIFF's jpeg compression is left out: float samples are silently zip-compressed.
   const Written j = write_read((t.dir / "j.tif").string(), OIIO::TypeFloat, 3, 64, 48, 0,
                                [](OIIO::ImageSpec& s) { s.attribute("compression", "jpeg"); });
@@ -281,8 +286,9 @@ TEST(OutputFormats, CheckOutputRefusesWhatTheFormatCannotHoldNamingAnAlternative
 
 TEST(OutputFormats, CompressionNamesAndLevelsAcrossFormats) {
   const auto names = all_compression_names();
-  for (const char* n : {"zip", "piz", "dwab", "lzw", "jpeg", "webp", "packbits", "rle"})
+  for (const char* n : {"zip", "piz", "dwab", "lzw", "jpeg", "webp", "packbits", "rle"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  }
   int lo = 0, hi = 0;
   ASSERT_TRUE(compression_level_range("zip", lo, hi));
   EXPECT_EQ(lo, 0);  // PNG's deflate level 0

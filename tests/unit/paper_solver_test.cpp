@@ -208,7 +208,9 @@ void compare_with_brute_force(const std::vector<Xyz>& w, const std::vector<Xyz>&
         << "solver kept " << filt.admissible - filt.dropped << ", brute force kept " << ref.kept;
     EXPECT_LE(rel_err(filt.values, ref.average), 1e-6);
     worst.filtered = std::max(worst.filtered, rel_err(filt.values, ref.average));
-    for (double v : filt.values) EXPECT_GE(v, 0.0);  // an average of non-negative solutions
+    for (double v : filt.values) {
+      EXPECT_GE(v, 0.0);  // an average of non-negative solutions
+    }
   }
   std::printf("  worst vs brute force: |dL| %ld, sum %.2e, filtered %.2e, exactness %.2e\n",
               worst.dl, worst.sum, worst.filtered, worst.exact);
@@ -329,11 +331,15 @@ TEST(PaperSolver, ColoursOutsideTheLocusHaveNoAdmissibleSolution) {
     EXPECT_EQ(brute_force_partials(sw.columns(), t).size(), 0u);  // the oracle agrees
     std::vector<double> sum(sw.columns().size(), 1.0);
     EXPECT_EQ(solver.sum_admissible(t, sum), 0u);
-    for (double v : sum) EXPECT_EQ(v, 0.0);
+    for (double v : sum) {
+      EXPECT_EQ(v, 0.0);
+    }
     for (const EdgeFilter& f : {EdgeFilter(), EdgeFilter::fraction(0.7)}) {
       PaperSpectrum p = solver.solve(t, f);
       EXPECT_EQ(p.admissible, 0u);
-      for (double v : p.values) EXPECT_EQ(v, 0.0);
+      for (double v : p.values) {
+        EXPECT_EQ(v, 0.0);
+      }
     }
   }
   // Zero has no chromaticity: nothing is admissible.
@@ -351,7 +357,9 @@ TEST(PaperSolver, IgnoresSamplesWithZeroWeight) {
   const Xyz t = sw.integrate(phi);
   PaperSpectrum p = solver.solve(t, EdgeFilter::fraction(0.7));
   ASSERT_GT(p.admissible, 0u);
-  for (std::size_t i = 1; i < phi.size(); i += 2) EXPECT_EQ(p.values[i], 0.0) << i;
+  for (std::size_t i = 1; i < phi.size(); i += 2) {
+    EXPECT_EQ(p.values[i], 0.0) << i;
+  }
   Xyz got;
   for (std::size_t i = 0; i < phi.size(); ++i) got = got + p.values[i] * sw.columns()[i];
   EXPECT_LE(rel_err(got, t), 1e-5);  // exact partial solutions, averaged in float kernels

@@ -324,7 +324,9 @@ TEST_P(RtTable, EveryFeasibleColourIsExactAndBounded) {
   // The table's matrix is the space's (measured by OCIO in float, white snapped).
   double m[9];
   spz_table_rgb_to_xyz(table, m);
-  for (int k = 0; k < 9; ++k) EXPECT_NEAR(m[k], tc.rgb_to_xyz[k / 3][k % 3], 2e-5) << k;
+  for (int k = 0; k < 9; ++k) {
+    EXPECT_NEAR(m[k], tc.rgb_to_xyz[k / 3][k % 3], 2e-5) << k;
+  }
   EXPECT_EQ(spz_table_mode(table), tc.reflectance ? 1 : 0);
   const Conventions cv(tc.reflectance, tc.rgb_to_xyz);
   const TestGamut gamut(cv.w, tc.reflectance);
@@ -562,8 +564,9 @@ TEST(RtEval, EmissionScalesWithTheColour) {
   ASSERT_EQ(spz_fetch(table, rgb, &a), SPZ_EXACT);
   const float bright[3] = {3000.f, 6000.f, 2000.f};
   ASSERT_EQ(spz_fetch(table, bright, &b), SPZ_EXACT);
-  for (float nm = 380; nm <= 780; nm += 7)
+  for (float nm = 380; nm <= 780; nm += 7) {
     EXPECT_NEAR(spz_eval(&b, nm), 1e4f * spz_eval(&a, nm), 2e-5f * 1e4f * spz_eval(&a, nm) + 1e-6f);
+  }
   spz_table_free(table);
 }
 
@@ -597,7 +600,9 @@ TEST(RtEval, EvalInterpolatesTheSamplesAndIsZeroOutside) {
       const float l4[4] = {379.0f, 455.5f, 612.25f, 781.0f};
       float o4[4];
       spz_eval4(&s, l4, o4);
-      for (int l = 0; l < 4; ++l) EXPECT_EQ(o4[l], spz_eval(&s, l4[l]));
+      for (int l = 0; l < 4; ++l) {
+        EXPECT_EQ(o4[l], spz_eval(&s, l4[l]));
+      }
     }
     spz_table_free(table);
   }
@@ -611,15 +616,23 @@ TEST(RtEval, WhiteBlackNanAndNegativeLuminance) {
   spz_spectrum s;
   const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
   ASSERT_EQ(spz_fetch(table, white, &s), SPZ_EXACT);
-  for (float v : samples(s)) EXPECT_EQ(v, 1.0f);
+  for (float v : samples(s)) {
+    EXPECT_EQ(v, 1.0f);
+  }
   ASSERT_EQ(spz_fetch(table, black, &s), SPZ_EXACT);
-  for (float v : samples(s)) EXPECT_EQ(v, 0.0f);
+  for (float v : samples(s)) {
+    EXPECT_EQ(v, 0.0f);
+  }
   const float nan[3] = {NAN, 0.5f, 0.5f}, inf[3] = {INFINITY, 0, 0}, neg[3] = {-1, -1, -1};
   EXPECT_EQ(spz_fetch(table, nan, &s), SPZ_INVALID);
-  for (float v : samples(s)) EXPECT_EQ(v, 0.0f);
+  for (float v : samples(s)) {
+    EXPECT_EQ(v, 0.0f);
+  }
   EXPECT_EQ(spz_fetch(table, inf, &s), SPZ_INVALID);
   EXPECT_EQ(spz_fetch(table, neg, &s), SPZ_NEGATIVE);
-  for (float v : samples(s)) EXPECT_EQ(v, 0.0f);
+  for (float v : samples(s)) {
+    EXPECT_EQ(v, 0.0f);
+  }
   spz_table_free(table);
 }
 
@@ -642,7 +655,9 @@ TEST(RtThreads, ConcurrentFetchesAgree) {
       }
     });
   for (auto& th : threads) th.join();
-  for (int t = 1; t < 4; ++t) EXPECT_EQ(results[t], results[0]);
+  for (int t = 1; t < 4; ++t) {
+    EXPECT_EQ(results[t], results[0]);
+  }
   spz_table_free(table);
 }
 

@@ -49,8 +49,10 @@ TEST(Observer, LoadsBothStandardObserversOnThe1nmTable) {
   EXPECT_EQ(o10.name, "cie1964");
   for (const Observer* o : {&o2, &o10})
     for (const auto& c : o->cmf) {
-      ASSERT_EQ(c.size(), 471u);             // 360..830 nm at 1 nm
-      for (double v : c) EXPECT_GE(v, 0.0);  // colour-matching functions are non-negative
+      ASSERT_EQ(c.size(), 471u);  // 360..830 nm at 1 nm
+      for (double v : c) {
+        EXPECT_GE(v, 0.0);  // colour-matching functions are non-negative
+      }
     }
   // Published CIE table values (CIE 015:2018 tables; exact in the data, so 1e-12).
   EXPECT_NEAR(o2.cmf[1][at(555)], 1.0, 1e-12);  // ybar peaks at 555 nm with value 1
@@ -97,10 +99,13 @@ TEST(Illuminant, StandardIlluminantsLoadOnTheReferenceTable) {
 
 TEST(Illuminant, TablesAreNormalisedTo100At560nm) {
   // CIE normalisation of D65, D50 and A: 100 at 560 nm (exact in the 1 nm tables, so 1e-6).
-  for (const char* name : {"D65", "D50", "A"})
+  for (const char* name : {"D65", "D50", "A"}) {
     EXPECT_NEAR(Illuminant::get(name).spd[at(560)], 100.0, 1e-6) << name;
+  }
   // E is equal energy.
-  for (double v : Illuminant::get("E").spd) EXPECT_EQ(v, Illuminant::get("E").spd[0]);
+  for (double v : Illuminant::get("E").spd) {
+    EXPECT_EQ(v, Illuminant::get("E").spd[0]);
+  }
 }
 
 TEST(Illuminant, ChromaticitiesMatchCie015) {
@@ -240,9 +245,10 @@ TEST(SampleWeights, OnThe1nmTableTheWeightsAreTheTableValues) {
       for (std::size_t k = 0; k < 471; ++k) {
         const double tau = (k == 0 || k == 470) ? 0.5 : 1.0;
         const double e = spd ? (*spd)[k] : 1.0;
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
           ASSERT_NEAR(w.columns()[k][c], tau * obs.cmf[c][k] * e / norm, 1e-12 * largest)
               << "k=" << k << " c=" << c;
+        }
       }
     }
 }
@@ -252,7 +258,9 @@ TEST(SampleWeights, SamplesOffTheTablePointsCarryNoWeightOnAHalfNanometreGrid) {
   // reference integration cannot see them: their weight vectors must be exactly zero.
   SampleWeights w(WavelengthGrid::parse("360:830:0.5"), Observer::get("cie1931"), nullptr);
   ASSERT_EQ(w.columns().size(), 941u);
-  for (std::size_t i = 1; i < 941; i += 2) EXPECT_EQ(w.columns()[i], Xyz{}) << "sample " << i;
+  for (std::size_t i = 1; i < 941; i += 2) {
+    EXPECT_EQ(w.columns()[i], Xyz{}) << "sample " << i;
+  }
   // ... and a spectrum that is non-zero only there has zero colour (raw_integral agrees).
   std::vector<double> odd(941, 0.0);
   for (std::size_t i = 1; i < 941; i += 2) odd[i] = 1.0;

@@ -78,9 +78,9 @@ TEST(Shard, PlacesEachTaskOfASlurmArrayOrRefusesIt) {
   for (int task = 0; task <= 10; ++task) {
     auto env = stepped;
     env["SLURM_ARRAY_TASK_ID"] = std::to_string(task);
-    if (task % 2 == 0)
+    if (task % 2 == 0) {
       EXPECT_EQ(slurm(env), (ShardSpec{task / 2, 6})) << task;
-    else
+    } else
       EXPECT_THROW(slurm(env), Error) << task;
   }
   // Garbage, a missing count, a list (--array=1,2,7), a task outside the array.
@@ -103,8 +103,9 @@ TEST(Shard, PlacesEachTaskOfASlurmArrayOrRefusesIt) {
 }
 
 TEST(Shard, PartNamesRoundTripAndMalformedOnesAreRefused) {
-  for (const ShardSpec& s : {ShardSpec{0, 1}, ShardSpec{2, 3}, ShardSpec{41, 1000}})
+  for (const ShardSpec& s : {ShardSpec{0, 1}, ShardSpec{2, 3}, ShardSpec{41, 1000}}) {
     EXPECT_EQ(parse_part_name(part_name(s)), s);
+  }
   EXPECT_EQ(part_name({1, 3}), "spectralize-ingest.part-1-of-3.jsonl");
   EXPECT_FALSE(parse_part_name("spectralize-ingest.jsonl"));
   EXPECT_FALSE(parse_part_name("notes.txt"));

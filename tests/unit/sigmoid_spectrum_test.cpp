@@ -86,7 +86,9 @@ TEST(SigmoidPolynomial, EvaluatesTheFormulaInFloatAndDouble) {
     const float ls[4] = {float(l), 400.f, 555.5f, 700.f};
     float out[4];
     pf.eval4(ls, out);
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], pf(ls[i]));
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_EQ(out[i], pf(ls[i]));
+    }
   }
   // The constant spectra 1 and 0 (pbrt's grey special case at rgb 1 and 0).
   const float inf = INFINITY;
@@ -138,11 +140,14 @@ TEST(SigmoidFit, GreyIsFlatAndTheFitIsFoundFromAnyStart) {
   const Oracle oracle(kRec709ToXyz);
   const SigmoidFit grey = fitter.fit({0.3, 0.3, 0.3});
   EXPECT_LT(grey.delta_e76, 1e-6);
-  for (double nm : {380.0, 550.0, 780.0}) EXPECT_NEAR(grey.polynomial(nm), 0.3, 1e-6);
+  for (double nm : {380.0, 550.0, 780.0}) {
+    EXPECT_NEAR(grey.polynomial(nm), 0.3, 1e-6);
+  }
   for (const auto& start : {std::array<double, 3>{5, -5, 1}, std::array<double, 3>{-20, 20, -3}}) {
     const SigmoidFit a = fitter.fit({0.6, 0.2, 0.1}), b = fitter.fit({0.6, 0.2, 0.1}, start);
-    for (double nm : {400.0, 500.0, 600.0, 700.0})
+    for (double nm : {400.0, 500.0, 600.0, 700.0}) {
       EXPECT_NEAR(a.polynomial(nm), b.polynomial(nm), 1e-4);
+    }
   }
 }
 
@@ -162,10 +167,20 @@ TEST(SigmoidFit, OtherSpacesAndGrids) {
   }
   std::printf("direct fit, 500 sRGB colours as Rec.2020 RGB (10 nm grid): max dE76 %.2e\n", worst);
   EXPECT_LT(worst, 1e-4);
-  test::expect_error_mentioning([] { SigmoidFitter(kRec709ToXyz, {.illuminant = "D99x"}); },
-                                {"D99x"}, "unknown illuminant");
-  test::expect_error_mentioning([] { SigmoidFitter(kRec709ToXyz, {.max_coefficient = 0}); },
-                                {"max_coefficient"}, "no room for coefficients");
+  test::expect_error_mentioning(
+      [] {
+        SigmoidFitterSettings bad;
+        bad.illuminant = "D99x";
+        SigmoidFitter(kRec709ToXyz, bad);
+      },
+      {"D99x"}, "unknown illuminant");
+  test::expect_error_mentioning(
+      [] {
+        SigmoidFitterSettings bad;
+        bad.max_coefficient = 0;
+        SigmoidFitter(kRec709ToXyz, bad);
+      },
+      {"max_coefficient"}, "no room for coefficients");
   test::expect_error_mentioning([] { SigmoidTable(SigmoidFitter(kRec709ToXyz), 1); },
                                 {"resolution"}, "resolution 1");
 }
@@ -186,7 +201,11 @@ class SigmoidTableTest : public ::testing::Test {
     return t;
   }
   static const SigmoidTable& unbounded() {
-    static const SigmoidFitter fitter(kRec709ToXyz, {.max_coefficient = INFINITY});
+    static const SigmoidFitter fitter(kRec709ToXyz, [] {
+      SigmoidFitterSettings unbounded;
+      unbounded.max_coefficient = INFINITY;
+      return unbounded;
+    }());
     static const SigmoidTable t(fitter, kRes, 2);
     return t;
   }
@@ -228,8 +247,9 @@ void expect_same(const SigmoidPolynomial& a, const SigmoidPolynomial& b, double 
 
 TEST_F(SigmoidTableTest, ZAxisIsSmoothstepOfSmoothstep) {
   ASSERT_EQ(table().resolution(), kRes);
-  for (int k = 0; k < kRes; ++k)
+  for (int k = 0; k < kRes; ++k) {
     EXPECT_FLOAT_EQ(table().z_node(k), float(smoothstep(smoothstep(k / double(kRes - 1)))));
+  }
 }
 
 // At a node the fetch is the node (x, y strictly below 1, so the largest component is unique).
@@ -279,7 +299,9 @@ TEST_F(SigmoidTableTest, FetchBetweenNodesIsTrilinear) {
 TEST_F(SigmoidTableTest, GreysAreConstant) {
   for (float g : {0.0f, 0.01f, 0.18f, 0.5f, 0.9f, 1.0f}) {
     const SigmoidPolynomial p = table()(g, g, g);
-    for (float nm : {380.f, 555.f, 780.f}) EXPECT_NEAR(p(nm), g, 1e-6) << g;
+    for (float nm : {380.f, 555.f, 780.f}) {
+      EXPECT_NEAR(p(nm), g, 1e-6) << g;
+    }
   }
 }
 

@@ -52,7 +52,9 @@ TEST(SpectralTable, EveryPixelReproducesItsColourToFloatPrecision) {
       std::vector<float> s(out.begin() + i * n, out.begin() + (i + 1) * n);
       for (float v : s) {
         ASSERT_GE(v, 0.0f);
-        if (mode == Mode::reflectance) ASSERT_LE(v, 1.0f);
+        if (mode == Mode::reflectance) {
+          ASSERT_LE(v, 1.0f);
+        }
       }
       worst = std::max(worst, relative_error(integrate(sp, s), sp.target_of(colours[i])));
     }
@@ -163,7 +165,9 @@ TEST(SpectralTable, OutsideColoursAreMappedByTheTableWithoutSolves) {
     PixelResult res[2];
     table.spectra(colours, 2, out.data(), res);
     EXPECT_EQ(res[0].kind, PixelKind::outside_locus);
-    if (mode == Mode::reflectance) EXPECT_EQ(res[1].kind, PixelKind::outside_solid);
+    if (mode == Mode::reflectance) {
+      EXPECT_EQ(res[1].kind, PixelKind::outside_solid);
+    }
     for (int c = 0; c < 2; ++c) {
       const SpectrumResult direct = sp.spectralize(colours[c]);
       EXPECT_LE(relative_error(res[c].target, direct.target), 1e-12);

@@ -98,8 +98,10 @@ inline void check_result(const Spectralizer& sp, const Reference& ref, const Xyz
   const Xyz want = expected_target(sp, ref, input);
   ASSERT_EQ(r.values.size(), sp.settings().grid.size());
   for (double v : r.values) {
-    ASSERT_GE(v, 0.0);                           // non-negative
-    if (reflectance) ASSERT_LE(v, 1.0 + 1e-12);  // a reflectance never exceeds 1
+    ASSERT_GE(v, 0.0);  // non-negative
+    if (reflectance) {
+      ASSERT_LE(v, 1.0 + 1e-12);  // a reflectance never exceeds 1
+    }
   }
   const Xyz got = integrate(sp, ref, r.values);
   const double err = rel_err(got, r.target);

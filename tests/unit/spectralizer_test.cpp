@@ -56,11 +56,13 @@ TEST(Spectralizer, PapersLightExample) {
   const Xyz got = integrate(sp, ref, r.values);
   EXPECT_LE(rel_err(got, xyz), 1e-5);       // the light's colour, exactly (DESIGN §3 float bar)
   EXPECT_LE(rel_err(got, r.target), 1e-9);  // and the reported target, to double rounding
-  for (double v : r.values) EXPECT_GE(v, 0.0);
+  for (double v : r.values) {
+    EXPECT_GE(v, 0.0);
+  }
   // Edge peaks removed: no sample in 380-400 or 760-780 nm above the mean over 400-700 nm.
   const double ratio = edge_peak_ratio(sp.settings().grid, r.values);
   EXPECT_LE(ratio, 1.0) << "edge sample / mid mean = " << ratio;
-  std::printf("  light: L %zu, dropped %zu, edge ratio %.3f\n", r.detail("admissible"),
+  std::printf("  light: L %.0f, dropped %.0f, edge ratio %.3f\n", r.detail("admissible"),
               r.detail("dropped"), ratio);
 }
 
@@ -78,7 +80,7 @@ TEST(Spectralizer, PapersSurfaceExample) {
     EXPECT_GE(v, 0.0);
     EXPECT_LE(v, 1.0 + 1e-12);
   }
-  std::printf("  surface: L %zu, dropped %zu, bounded %d, edge ratio %.3f\n",
+  std::printf("  surface: L %.0f, dropped %.0f, bounded %.0f, edge ratio %.3f\n",
               r.detail("admissible"), r.detail("dropped"), r.detail("bounded"),
               edge_peak_ratio(sp.settings().grid, r.values));
 }
@@ -192,7 +194,9 @@ TEST(Spectralizer, EdgePeaksTheLadderLeavesAreCappedExactly) {
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_TRUE(r.detail("edge_capped"));
   EXPECT_LE(edge_peak_ratio(sp.settings().grid, r.values), 1.0);
-  for (double v : r.values) EXPECT_GE(v, 0.0);
+  for (double v : r.values) {
+    EXPECT_GE(v, 0.0);
+  }
   EXPECT_LE(rel_err(integrate(sp, ref, r.values), xyz), 1e-9);
   // With an explicit filter the user's K is respected: no capping, the peak stays.
   SpectralizerSettings s = sp.settings();
@@ -212,7 +216,9 @@ TEST(Spectralizer, WhiteSurfaceIsPerfectReflector) {
     const Spectralizer sp = make(Mode::reflectance, "380:780:5", "cie1931", il);
     const SpectrumResult r = sp.spectralize(test::rgb(test::kRec709ToXyz, 1, 1, 1));
     EXPECT_EQ(r.status, Status::ok) << r.message;
-    for (double v : r.values) EXPECT_NEAR(v, 1.0, 1e-9);
+    for (double v : r.values) {
+      EXPECT_NEAR(v, 1.0, 1e-9);
+    }
     // Mid grey is a reflectance too (inside the solid, not on its boundary).
     const SpectrumResult g = sp.spectralize(test::rgb(test::kRec709ToXyz, 0.5, 0.5, 0.5));
     EXPECT_EQ(g.status, Status::ok) << g.message;
@@ -225,7 +231,9 @@ TEST(Spectralizer, BlackIsAZeroSpectrum) {
     const SpectrumResult r = sp.spectralize(Xyz{});
     EXPECT_EQ(r.status, Status::black) << to_string(mode);
     ASSERT_EQ(r.values.size(), 81u);
-    for (double v : r.values) EXPECT_EQ(v, 0.0);
+    for (double v : r.values) {
+      EXPECT_EQ(v, 0.0);
+    }
   }
 }
 
@@ -261,7 +269,9 @@ TEST(Spectralizer, EmissionIsExactAcrossTheFloatRange) {
     bool finite = true;
     for (double v : r.values) finite = finite && std::isfinite(v) && v >= 0;
     EXPECT_TRUE(finite);
-    if (finite) EXPECT_LE(rel_err(integrate(sp, ref, r.values), k * base), 1e-5);
+    if (finite) {
+      EXPECT_LE(rel_err(integrate(sp, ref, r.values), k * base), 1e-5);
+    }
   }
 }
 
@@ -279,7 +289,9 @@ TEST(Spectralizer, NarrowGridNeverReportsAnInexactSpectrum) {
     EXPECT_TRUE(sp.in_gamut(r.target)) << to_string(r.status) << ": " << r.message;
     EXPECT_LE(rel_err(integrate(sp, ref, r.values), r.target), 1e-5)
         << to_string(r.status) << ": " << r.message;
-    if (r.status == Status::ok) EXPECT_LE(rel_err(r.target, xyz), 1e-6);
+    if (r.status == Status::ok) {
+      EXPECT_LE(rel_err(r.target, xyz), 1e-6);
+    }
   }
 }
 
@@ -296,7 +308,9 @@ TEST(Spectralizer, InvalidInputGivesInvalidAndAZeroSpectrum) {
       EXPECT_EQ(r.status, Status::invalid);
       EXPECT_FALSE(r.message.empty());
       ASSERT_EQ(r.values.size(), 81u);
-      for (double v : r.values) EXPECT_EQ(v, 0.0);
+      for (double v : r.values) {
+        EXPECT_EQ(v, 0.0);
+      }
     }
   }
 }
@@ -412,7 +426,9 @@ TEST(Spectralizer, IsThreadSafe) {
   std::thread a(work, 0), b(work, 1);
   a.join();
   b.join();
-  for (std::size_t i = 0; i < colours.size(); ++i) EXPECT_EQ(parallel[i], serial[i]) << i;
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    EXPECT_EQ(parallel[i], serial[i]) << i;
+  }
 }
 
 TEST(Spectralizer, ConfigurationMistakesThrow) {

@@ -35,9 +35,13 @@ TEST(StripPlan, WholeBlocksForEveryWorkerWithinTheBudget) {
               EXPECT_LE(bytes, std::max<std::size_t>(192 * kMB, unit * row));
               // Parallel: a block per worker whenever that fits in the bound.
               const std::size_t per_worker = static_cast<std::size_t>(workers) * block * row;
-              if (per_worker <= 192 * kMB) EXPECT_GE(rows, workers * block);
+              if (per_worker <= 192 * kMB) {
+                EXPECT_GE(rows, workers * block);
+              }
               // Balanced: as many blocks for each worker.
-              if (rows / block >= workers) EXPECT_EQ(rows / block % workers, 0) << rows;
+              if (rows / block >= workers) {
+                EXPECT_EQ(rows / block % workers, 0) << rows;
+              }
             }
 }
 

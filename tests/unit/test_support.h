@@ -200,9 +200,10 @@ void expect_error_mentioning(Fn&& fn, std::vector<std::string> words, const std:
     ADD_FAILURE() << what << ": no Error thrown";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    for (const auto& w : words)
+    for (const auto& w : words) {
       EXPECT_NE(msg.find(w), std::string::npos)
           << what << ": message '" << msg << "' lacks '" << w << "'";
+    }
   } catch (const std::exception& e) {
     ADD_FAILURE() << what << ": threw a non-spectralize exception: " << e.what();
   }

@@ -74,8 +74,9 @@ TEST(Render, ImagesDoNotDependOnTheThreadCount) {
   const RenderResult two = render(f.scene, f.environment, f.film, r, 12, {2, 5}, 2);
   ASSERT_EQ(one.images[0].size(), 2u);
   for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t i = 0; i < one.images[0][k].size(); ++i)
+    for (std::size_t i = 0; i < one.images[0][k].size(); ++i) {
       ASSERT_EQ(one.images[0][k][i], two.images[0][k][i]) << k << " " << i;
+    }
   EXPECT_EQ(one.coverage, two.coverage);
 }
 

@@ -1,0 +1,52 @@
+// The node cache's file (pipeline/table_cache.h): a round trip, and the refusal of files that
+// are not what they claim. The file name's hash is FNV-1a of the key, as documented.
+
+#include "pipeline/table_cache.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "core/spectral_table.h"
+
+namespace fs = std::filesystem;
+
+namespace spectralize {
+namespace {
+
+TEST(TableCache, RoundTripAndRefusals) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("cache_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  SpectralizerSettings ss;
+  const Spectralizer sp(ss);
+  SpectralTable made(sp);
+  const Xyz c{0.3, 0.35, 0.4};
+  std::vector<float> out(sp.settings().grid.size());
+  PixelResult res;
+  made.spectra(&c, 1, out.data(), &res);
+  const std::string key = "test key";
+  const std::string file = table_cache_file(dir.string(), key);
+  // Stable name: FNV-1a of the key (documented), whatever the standard library.
+  EXPECT_EQ(fs::path(file).filename(), "spectralize-table-ee323c675103fedc.bin");
+  EXPECT_EQ(save_table_cache(made, file, key), "");
+  SpectralTable loaded(sp);
+  EXPECT_EQ(load_table_cache(loaded, file, key), "");
+  EXPECT_EQ(loaded.stats().nodes_loaded, 4u);
+  SpectralTable other(sp);
+  EXPECT_NE(load_table_cache(other, file, "another key").find("other settings"), std::string::npos);
+  // Truncated by one byte: the checksum catches it.
+  fs::resize_file(file, fs::file_size(file) - 1);
+  EXPECT_NE(load_table_cache(other, file, key), "");
+  // A directory or a FIFO where the file should be: refused without blocking.
+  fs::remove(file);
+  fs::create_directory(file);
+  EXPECT_EQ(load_table_cache(other, file, key), "is a directory");
+  EXPECT_NE(save_table_cache(made, file, key), "");
+  fs::remove(file);
+  EXPECT_EQ(load_table_cache(other, file, key), "");  // absent: nothing to load, no complaint
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace spectralize
