@@ -24,5 +24,16 @@ TEST(Messages, LongValuesAreClipped) {
   }
 }
 
+TEST(Messages, ClipShortensLongValuesAtACharacterBoundary) {
+  EXPECT_EQ(clip("short", 80), "short");
+  const std::string long_value(1000, 'v');
+  const std::string clipped = clip(long_value, 80);
+  EXPECT_EQ(clipped.substr(0, 83), std::string(80, 'v') + "...");
+  EXPECT_LT(clipped.size(), 120u);
+  // "é" is two bytes: a cut at 5 bytes would split the third one.
+  const std::string accents = "\xC3\xA9\xC3\xA9\xC3\xA9\xC3\xA9";
+  EXPECT_EQ(clip(accents, 5).substr(0, 7), "\xC3\xA9\xC3\xA9...");
+}
+
 }  // namespace
 }  // namespace spectralize
