@@ -20,6 +20,7 @@ namespace spectralize {
 namespace {
 
 constexpr int kDefaultZipLevel = 4;
+constexpr float kDefaultDwaLevel = 45.0f;
 
 // "zip:4" -> ("zip", 4); no level: -1.
 std::pair<std::string, int> split_compression(const std::string& text) {
@@ -78,11 +79,14 @@ Imf::Header oiio_header(const OIIO::ImageSpec& spec, const std::string& file) {
   Imf::Header h = header_file.header();
   h.dataWindow() = Imath::Box2i(Imath::V2i(spec.x, spec.y),
                                 Imath::V2i(spec.x + spec.width - 1, spec.y + spec.height - 1));
-  // OpenEXR keeps zip's level in memory only (the file does not record it): set it again;
-  // plain "zip" is level 4 (OpenEXR 3.1's default, stated so it cannot drift with versions).
+  // OpenEXR keeps zip's and DWA's levels in memory only (the file does not record them): set
+  // them again; plain "zip" is level 4 and plain DWA 45 (OpenEXR 3.1's defaults, stated so they
+  // cannot drift with versions).
   const auto [name, level] = split_compression(spec.get_string_attribute("compression"));
   if (name == "zip" || name == "zips")
     h.zipCompressionLevel() = level >= 0 ? level : kDefaultZipLevel;
+  if (name == "dwaa" || name == "dwab")
+    h.dwaCompressionLevel() = level >= 0 ? static_cast<float>(level) : kDefaultDwaLevel;
   return h;
 }
 

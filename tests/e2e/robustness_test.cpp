@@ -210,7 +210,7 @@ TEST(Robustness, ReportPathIsCheckedBeforeAnyWork) {
   fs::copy_file(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", s / "cfg.ocio");
   const std::string config = e2e::slurp(s / "cfg.ocio");
   fs::copy_file(s / "cfg.ocio", s / "cfg.exr");  // OCIO reads a config by any name
-  for (const std::string& cfg : {"cfg.ocio", "cfg.exr"}) {
+  for (const std::string cfg : {"cfg.ocio", "cfg.exr"}) {
     const std::string args =
         cfg == "cfg.ocio" ? " -o " + (s / "g.exr") + " --report " + (s / cfg) : " -o " + (s / cfg);
     r = run((s / "one.exr") + " -q --config " + (s / cfg) + args);

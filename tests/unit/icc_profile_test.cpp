@@ -217,10 +217,14 @@ TEST(IccProfile, TheHeaderIsAVersion4RgbDisplayProfileWithTheD50Illuminant) {
   // A fixed creation date, 2000-01-01 00:00:00 (dateTimeNumber: six big-endian uInt16), so
   // a profile depends on the space alone.
   const std::uint16_t date[6] = {2000, 1, 1, 0, 0, 0};
-  for (int i = 0; i < 6; ++i) EXPECT_EQ(p.u16(24 + 2 * i), date[i]) << "date field " << i;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(p.u16(24 + 2 * i), date[i]) << "date field " << i;
+  }
   // The profile ID (bytes 84-99) is zero, "not calculated": no MD5 checksum that the fixed
   // date, set after LittleCMS saved the profile, would make wrong.
-  for (int i = 84; i < 100; ++i) EXPECT_EQ(p.byte(i), 0) << "profile ID byte " << i;
+  for (int i = 84; i < 100; ++i) {
+    EXPECT_EQ(p.byte(i), 0) << "profile ID byte " << i;
+  }
 }
 
 TEST(IccProfile, TheTagTableHoldsTheMatrixAndCurveTagsInsideTheFile) {
@@ -276,10 +280,14 @@ TEST(IccProfile, TheSrgbProfileHasThePublishedColorantsAndTheD50White) {
   }
   // RGB (1, 1, 1) is the PCS white: the colorants sum to D50 (three rounded numbers each).
   const double d50[3] = {0.9642, 1.0, 0.8249};
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i] + g[i] + b[i], d50[i], 2 * kFixedStep) << i;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(r[i] + g[i] + b[i], d50[i], 2 * kFixedStep) << i;
+  }
   // Version 4: the media white point of a display profile is the PCS illuminant D50.
   const auto w = p.xyz("wtpt");
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(w[i], d50[i], 0.5 * kFixedStep) << "wtpt " << i;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(w[i], d50[i], 0.5 * kFixedStep) << "wtpt " << i;
+  }
   // The chromatic adaptation from D65 to D50: Bradford's, derived independently.
   const Mat3 expected = test::bradford(test::d65_white(), Xyz{0.9642, 1.0, 0.8249});
   EXPECT_LT(max_abs_difference(p.matrix("chad"), expected), 1e-4);
@@ -324,8 +332,9 @@ TEST(IccProfile, TheSrgbCurveHasTheStandardsParameters) {
     EXPECT_EQ(function, 3);
     const double expected[5] = {2.4, 1 / 1.055, 0.055 / 1.055, 1 / 12.92, 0.04045};
     ASSERT_EQ(params.size(), 5u);
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < 5; ++i) {
       EXPECT_NEAR(params[i], expected[i], 0.5 * kFixedStep) << "parameter " << i;
+    }
     // The curve is IEC 61966-2-1's, within what five rounded parameters change (1e-4).
     for (int k = 0; k <= 1000; ++k) {
       const double v = k / 1000.0;
@@ -346,8 +355,9 @@ TEST(IccProfile, GammaAndLinearCurvesAreThePowerFunctions) {
   }
   const Profile linear = made(kRec709, {IccTransfer::linear}, "linear");
   for (const char* trc : {"rTRC", "gTRC", "bTRC"})
-    for (int k = 0; k <= 100; ++k)
+    for (int k = 0; k <= 100; ++k) {
       ASSERT_NEAR(linear.curve(trc, k / 100.0), k / 100.0, 1e-6) << trc;
+    }
 }
 
 // --- What cannot be made ---
@@ -384,7 +394,9 @@ TEST(IccProfile, ARealSrgbProfileHoldsWhatOursHolds) {
         (name.ends_with(".icc") || name.ends_with(".icm")))
       found.push_back(it->path());
   }
-  if (found.empty()) GTEST_SKIP() << "no sRGB profile in " << dir << " (icc-profiles-free)";
+  if (found.empty()) {
+    GTEST_SKIP() << "no sRGB profile in " << dir << " (icc-profiles-free)";
+  }
   const Profile ours = made(kRec709, {IccTransfer::srgb}, "sRGB");
   for (const fs::path& path : found) {
     SCOPED_TRACE(path.string());
@@ -396,8 +408,9 @@ TEST(IccProfile, ARealSrgbProfileHoldsWhatOursHolds) {
     // Same colorants (the real one's to its own rounding) and the same curve.
     EXPECT_LT(max_abs_difference(colorant_matrix(real), colorant_matrix(ours)), 2e-4);
     if (real.tags().count("rTRC"))
-      for (int k = 0; k <= 100; ++k)
+      for (int k = 0; k <= 100; ++k) {
         EXPECT_NEAR(real.curve("rTRC", k / 100.0), ours.curve("rTRC", k / 100.0), 2e-3);
+      }
   }
 }
 

@@ -50,7 +50,9 @@ std::vector<double> table_column(const std::string& file, const std::string& col
     const int nm = static_cast<int>(std::lround(cells[0]));
     if (nm >= 360 && nm <= 830) values[static_cast<std::size_t>(nm - 360)] = cells[index];
   }
-  for (double v : values) EXPECT_TRUE(std::isfinite(v)) << file << " lacks a wavelength";
+  for (double v : values) {
+    EXPECT_TRUE(std::isfinite(v)) << file << " lacks a wavelength";
+  }
   return values;
 }
 
@@ -227,7 +229,9 @@ TEST(RgbFromSpectral, AConstantReflectanceIsThatGreyInEveryLinearSpaceUnderEvery
           const std::vector<float> rgb =
               convert_one(conv, layout, std::vector<double>(bands.size(), rho));
           // Float weights and OCIO's float maths (docs/DESIGN.md §3: float files, 1e-5).
-          for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], rho, 1e-5 * std::max(1.0, rho)) << c;
+          for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(rgb[c], rho, 1e-5 * std::max(1.0, rho)) << c;
+          }
         }
       }
 }
@@ -326,9 +330,13 @@ TEST(RgbFromSpectral, ValuesBeyondTheOutputTypeAreClampedAndCounted) {
   EXPECT_EQ(grey(1 + 0.25 / 255, OIIO::TypeUInt16, c), (std::vector<float>{1, 1, 1}));
   EXPECT_EQ(c.clipped, 1u);  // beyond half of a 16-bit code
   // HALF: beyond 65504, clamped to it.
-  for (float v : grey(1e5, OIIO::TypeHalf, c)) EXPECT_EQ(v, 65504.0f);
+  for (float v : grey(1e5, OIIO::TypeHalf, c)) {
+    EXPECT_EQ(v, 65504.0f);
+  }
   EXPECT_EQ(c.half_overflow, 1u);
-  for (float v : grey(-1e5, OIIO::TypeHalf, c)) EXPECT_EQ(v, -65504.0f);
+  for (float v : grey(-1e5, OIIO::TypeHalf, c)) {
+    EXPECT_EQ(v, -65504.0f);
+  }
   EXPECT_EQ(c.half_overflow, 1u);
   grey(6e4, OIIO::TypeHalf, c);
   EXPECT_EQ(c.half_overflow, 0u);

@@ -34,6 +34,14 @@ namespace fs = std::filesystem;
 namespace spectralize {
 namespace {
 
+// "'text'", as the messages quote a path (appended: GCC 12 warns falsely on "'" + std::string).
+std::string in_quotes(const std::string& text) {
+  std::string out = "'";
+  out += text;
+  out += "'";
+  return out;
+}
+
 // A fresh folder under gtest's temporary directory, removed afterwards.
 struct TempDir {
   fs::path dir;
@@ -177,7 +185,7 @@ TEST(SafeOutput, ACommitOfNothingIsRefusedAndLeavesNothing) {
   {
     AtomicOutput out(dest);
     const std::string why = file_error([&] { out.commit(); });
-    EXPECT_TRUE(contains(why, "'" + dest + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes(dest))) << why;
     EXPECT_TRUE(contains(why, "nothing was written")) << why;
   }
   EXPECT_TRUE(names_in(t.dir).empty());
@@ -194,7 +202,7 @@ TEST(SafeOutput, AFileShorterThanWhatWasWrittenIsNeverCommitted) {
     out.write("0123456789");
     ASSERT_EQ(::truncate(out.path().c_str(), 4), 0);
     const std::string why = file_error([&] { out.commit(); });
-    EXPECT_TRUE(contains(why, "'" + dest + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes(dest))) << why;
     EXPECT_TRUE(contains(why, "4 bytes of 10")) << why;
   }
   EXPECT_EQ(read_all(dest), "the old file");
@@ -209,7 +217,7 @@ TEST(SafeOutput, OverwriteReplacesBytesInPlaceAndNeverGrowsTheFile) {
     out.write("count=00000000;end");
     out.overwrite(6, "12345678");
     const std::string why = file_error([&] { out.overwrite(15, "xyzw"); });  // past the end
-    EXPECT_TRUE(contains(why, "'" + dest + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes(dest))) << why;
     out.commit();
   }
   EXPECT_EQ(read_all(dest), "count=12345678;end");
@@ -281,17 +289,17 @@ TEST(SafeOutput, DirectoriesMissingFoldersAndEmptyNamesAreRefused) {
   TempDir t;
   fs::create_directories(t.dir / "sub");
   std::string why = file_error([&] { AtomicOutput out(t / "sub"); });
-  EXPECT_TRUE(contains(why, "'" + (t / "sub") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "sub")))) << why;
   EXPECT_TRUE(contains(why, "is a directory")) << why;
   why = file_error([&] { AtomicOutput out(t / "no/such/folder/a.exr"); });
-  EXPECT_TRUE(contains(why, "'" + (t / "no/such/folder/a.exr") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "no/such/folder/a.exr")))) << why;
   EXPECT_TRUE(contains(why, "does not exist")) << why;
   why = file_error([&] { AtomicOutput out(""); });
   EXPECT_TRUE(contains(why, "empty")) << why;
   // A "folder" that is a file.
   write_file(t / "plain", "x");
   why = file_error([&] { AtomicOutput out(t / "plain/a.exr"); });
-  EXPECT_TRUE(contains(why, "'" + (t / "plain/a.exr") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "plain/a.exr")))) << why;
   EXPECT_EQ(names_in(t.dir), (std::vector<std::string>{"plain", "sub"}));
 }
 
@@ -300,7 +308,7 @@ TEST(SafeOutput, NonRegularFilesAreRefusedUnlessStreamsAreAllowed) {
   const std::string fifo = t / "pipe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string why = file_error([&] { AtomicOutput out(fifo); });
-  EXPECT_TRUE(contains(why, "'" + fifo + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes(fifo))) << why;
   EXPECT_TRUE(contains(why, "not a regular file")) << why;
   why = file_error([&] { AtomicOutput out("/dev/null"); });
   EXPECT_TRUE(contains(why, "'/dev/null'")) << why;
@@ -330,7 +338,9 @@ TEST(SafeOutput, NonRegularFilesAreRefusedUnlessStreamsAreAllowed) {
 
 TEST(SafeOutput, AFailingWriteThrowsTheSystemsReasonNamingTheDestination) {
   // /dev/full refuses every byte with ENOSPC.
-  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  if (!fs::exists("/dev/full")) {
+    GTEST_SKIP() << "no /dev/full";
+  }
   AtomicOutput out("/dev/full", WriteRules::named("the report").streams());
   const std::string why = file_error([&] { out.write("abc"); });
   EXPECT_TRUE(contains(why, "'/dev/full'")) << why;
@@ -354,9 +364,9 @@ TEST(SafeOutput, AWritePastTheFileSizeLimitIsAnErrorAndLeavesNothing) {
     ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
     why = file_error([&] { out.write(std::string(10000, 'x')); });
     ::setrlimit(RLIMIT_FSIZE, &old);
-    EXPECT_TRUE(contains(file_error([&] { out.commit(); }), "'" + dest + "'"));
+    EXPECT_TRUE(contains(file_error([&] { out.commit(); }), in_quotes(dest)));
   }
-  EXPECT_TRUE(contains(why, "'" + dest + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes(dest))) << why;
   EXPECT_TRUE(contains(why, std::strerror(EFBIG))) << why;
   EXPECT_TRUE(names_in(t.dir).empty());
 }
@@ -375,7 +385,9 @@ TEST(SafeOutput, FailGivesTheSystemsReasonWhenOneIsKnown) {
   // No reason known (room on the disk, no size limit): the writer's message as a plain Error.
   struct rlimit lim {};
   ::getrlimit(RLIMIT_FSIZE, &lim);
-  if (lim.rlim_cur != RLIM_INFINITY) GTEST_SKIP() << "a file-size limit is set";
+  if (lim.rlim_cur != RLIM_INFINITY) {
+    GTEST_SKIP() << "a file-size limit is set";
+  }
   try {
     out.fail("TIFF: bad strip");
     ADD_FAILURE() << "fail() returned";
@@ -401,7 +413,7 @@ TEST(SafeOutput, AFileTheRunReadsIsNeverReplacedUnderAnyAlias) {
                                    (t.dir / "./in.png").string()}) {
     SCOPED_TRACE(alias);
     const std::string why = file_error([&] { AtomicOutput out(alias); });
-    EXPECT_TRUE(contains(why, "'" + alias + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes(alias))) << why;
     EXPECT_TRUE(contains(why, "the input '" + input + "'")) << why;
   }
   EXPECT_EQ(read_all(input), "input bytes");
@@ -415,8 +427,8 @@ TEST(SafeOutput, TheInputsGivenToAnOutputAreRefusedToo) {
   const std::vector<std::string> inputs = {input};
   // No ReadFileScope needed: the inputs are given.
   const std::string why = file_error([&] { AtomicOutput out(t / "same.exr", {}, inputs); });
-  EXPECT_TRUE(contains(why, "'" + (t / "same.exr") + "'")) << why;
-  EXPECT_TRUE(contains(why, "'" + input + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "same.exr")))) << why;
+  EXPECT_TRUE(contains(why, in_quotes(input))) << why;
   EXPECT_EQ(read_all(input), "input");
 }
 
@@ -428,7 +440,7 @@ TEST(SafeOutput, TwoOutputsOfARunNeverGoToOneFile) {
     AtomicOutput first(dest, WriteRules::named("the output of 'a.png'"));
     // The same place, while the first lives, under another spelling.
     const std::string why = file_error([&] { AtomicOutput second(t / "./out.exr"); });
-    EXPECT_TRUE(contains(why, "'" + (t / "./out.exr") + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes((t / "./out.exr")))) << why;
     EXPECT_TRUE(contains(why, "the output of 'a.png'")) << why;
     first.write("first");
     first.commit();
@@ -437,7 +449,7 @@ TEST(SafeOutput, TwoOutputsOfARunNeverGoToOneFile) {
   fs::create_hard_link(dest, t.dir / "hard.exr");
   for (const std::string& again : {dest, t / "hard.exr"}) {
     const std::string why = file_error([&] { AtomicOutput second(again); });
-    EXPECT_TRUE(contains(why, "'" + again + "'")) << why;
+    EXPECT_TRUE(contains(why, in_quotes(again))) << why;
   }
   EXPECT_EQ(read_all(dest), "first");
 }
@@ -465,21 +477,21 @@ TEST(SafeOutput, TheRegistryIsForgottenWhenTheLastScopeEnds) {
 TEST(SafeOutput, CheckReadableFileRefusesWhatCannotBeReadAndProtectsWhatIsRead) {
   TempDir t;
   std::string why = file_error([&] { check_readable_file(t / "missing.png", "input"); });
-  EXPECT_TRUE(contains(why, "'" + (t / "missing.png") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "missing.png")))) << why;
   EXPECT_TRUE(contains(why, "no such file")) << why;
   why = file_error([&] { check_readable_file(t.dir.string(), "input"); });
   EXPECT_TRUE(contains(why, "is a directory")) << why;
   const std::string fifo = t / "fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   why = file_error([&] { check_readable_file(fifo, "--config"); });  // refused, never blocks
-  EXPECT_TRUE(contains(why, "'" + fifo + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes(fifo))) << why;
   EXPECT_TRUE(contains(why, "--config")) << why;
   EXPECT_TRUE(contains(why, "a pipe")) << why;
   const std::string input = t / "in.exr";
   write_file(input, "x");
   ReadFileScope scope;
   check_readable_file(input, "input");
-  EXPECT_TRUE(contains(file_error([&] { AtomicOutput out(input); }), "'" + input + "'"));
+  EXPECT_TRUE(contains(file_error([&] { AtomicOutput out(input); }), in_quotes(input)));
 }
 
 TEST(SafeOutput, LinksTheToolDidNotMakeBelowItsFolderAreRefused) {
@@ -491,10 +503,10 @@ TEST(SafeOutput, LinksTheToolDidNotMakeBelowItsFolderAreRefused) {
   fs::create_symlink(t.dir / "elsewhere/x.exr", below + "/linked.exr");
   const WriteRules rules = WriteRules::named("the ingest output").below(below);
   std::string why = file_error([&] { AtomicOutput out(below + "/linked.exr", rules); });
-  EXPECT_TRUE(contains(why, "'" + below + "/linked.exr'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes(below + "/linked.exr"))) << why;
   EXPECT_TRUE(contains(why, "symbolic link")) << why;
   why = file_error([&] { AtomicOutput out(below + "/linked_folder/a.exr", rules); });
-  EXPECT_TRUE(contains(why, "'" + below + "/linked_folder'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes(below + "/linked_folder"))) << why;
   EXPECT_TRUE(contains(why, "symbolic link")) << why;
   why = file_error([&] { AtomicOutput out(t / "elsewhere/b.exr", rules); });
   EXPECT_TRUE(contains(why, "not inside")) << why;
@@ -517,17 +529,17 @@ TEST(SafeOutput, AFilePlanRefusesAConflictingPlanUpFront) {
   EXPECT_TRUE(plan.read(t / "missing.png", "a missing input"));  // ignored: fails when read
   EXPECT_EQ(plan.write(t / "a.exr", "the output of 'in.png'"), "");
   std::string why = plan.write(t / "alias.png", "the output of 'x.png'");
-  EXPECT_TRUE(contains(why, "'" + (t / "alias.png") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "alias.png")))) << why;
   EXPECT_TRUE(contains(why, "the input")) << why;
   why = plan.write(t / "./a.exr", "the output of 'y.png'");
-  EXPECT_TRUE(contains(why, "'" + (t / "./a.exr") + "'")) << why;
+  EXPECT_TRUE(contains(why, in_quotes((t / "./a.exr")))) << why;
   EXPECT_TRUE(contains(why, "the output of 'in.png'")) << why;
   // A planned output's folder may not exist yet.
   EXPECT_EQ(plan.write(t / "later/b.exr", "the output of 'b.png'"), "");
   // Claimed: the run's outputs are checked against the whole plan.
   ReadFileScope scope;
   plan.claim();
-  EXPECT_TRUE(contains(file_error([&] { AtomicOutput out(input); }), "'" + input + "'"));
+  EXPECT_TRUE(contains(file_error([&] { AtomicOutput out(input); }), in_quotes(input)));
   why = file_error([&] { AtomicOutput out(t / "./a.exr"); });
   EXPECT_TRUE(contains(why, "the output of 'in.png'")) << why;
   // The planned output itself, as planned, is written.
@@ -550,8 +562,9 @@ TEST(SafeOutput, EveryAliasOfAFileHasOnePlace) {
   ASSERT_EQ(::stat(file.c_str(), &st), 0);
   const FilePlace expected{static_cast<std::uint64_t>(st.st_dev),
                            static_cast<std::uint64_t>(st.st_ino), ""};
-  for (const std::string& alias : {file, t / "link.exr", t / "hard.exr", t / "sub/../f.exr"})
+  for (const std::string& alias : {file, t / "link.exr", t / "hard.exr", t / "sub/../f.exr"}) {
     EXPECT_EQ(file_place(alias), expected) << alias;
+  }
   const int fd = ::open(file.c_str(), O_RDONLY);
   ASSERT_GE(fd, 0);
   EXPECT_EQ(file_place("/proc/self/fd/" + std::to_string(fd)), expected);
@@ -562,8 +575,9 @@ TEST(SafeOutput, EveryAliasOfAFileHasOnePlace) {
   const FilePlace missing{static_cast<std::uint64_t>(st.st_dev),
                           static_cast<std::uint64_t>(st.st_ino), "new/a.exr"};
   fs::create_symlink(t.dir / "new/a.exr", t.dir / "dangling.exr");
-  for (const std::string& alias : {t / "new/a.exr", t / "sub/../new/a.exr", t / "dangling.exr"})
+  for (const std::string& alias : {t / "new/a.exr", t / "sub/../new/a.exr", t / "dangling.exr"}) {
     EXPECT_EQ(file_place(alias), missing) << alias;
+  }
   EXPECT_NE(file_place(t / "new/b.exr"), missing);
 }
 

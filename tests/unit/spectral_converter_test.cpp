@@ -118,7 +118,9 @@ TEST(SpectralConverter, EmissionSamplesIntegrateBackToTheColour) {
     SCOPED_TRACE(p);
     const Xyz expected = rec709(colours[p][0], colours[p][1], colours[p][2]);
     EXPECT_LT(test::rel_err(k.integrated(k.spectrum(out, p)), expected), kFloatTolerance);
-    for (double v : k.spectrum(out, p)) EXPECT_GE(v, 0.0);  // light is never negative
+    for (double v : k.spectrum(out, p)) {
+      EXPECT_GE(v, 0.0);  // light is never negative
+    }
   }
   const PixelCounts c = k.converter->counts();
   EXPECT_EQ(c.error_pixels, colours.size());
@@ -144,7 +146,9 @@ TEST(SpectralConverter, AReflectanceIsBoundedAndIntegratesToItsBalancedColour) {
     }
   }
   // RGB (1, 1, 1) is the reference white itself.
-  for (double v : k.spectrum(out, 0)) EXPECT_NEAR(v, 1.0, 1e-5);
+  for (double v : k.spectrum(out, 0)) {
+    EXPECT_NEAR(v, 1.0, 1e-5);
+  }
 }
 
 TEST(SpectralConverter, PreviewsAreTheWrittenSamplesIntegratedBack) {
@@ -167,8 +171,9 @@ TEST(SpectralConverter, PreviewsAreTheWrittenSamplesIntegratedBack) {
       EXPECT_NEAR(preview[1], rgb.Y, kFloatTolerance) << p;
       EXPECT_NEAR(preview[2], rgb.Z, kFloatTolerance) << p;
       // Within the kernel's exactness, the input colour itself.
-      for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(preview[c], in[p * 3 + static_cast<std::size_t>(c)], 1e-4) << p;
+      }
     }
   }
 }
@@ -232,13 +237,16 @@ TEST(SpectralConverter, BadAlphaIsClampedAndCounted) {
   const std::vector<float> out = k.run({0.5f, 0.5f, 0.5f, nan, 0.5f, 0.5f, 0.5f, 1.5f, 0.5f, 0.5f,
                                         0.5f, -0.2f, 0.5f, 0.5f, 0.5f, 0.3f});
   const float expected[4] = {0.0f, 1.0f, 0.0f, 0.3f};
-  for (std::size_t p = 0; p < 4; ++p)
+  for (std::size_t p = 0; p < 4; ++p) {
     EXPECT_EQ(out[p * static_cast<std::size_t>(k.out_nch) + static_cast<std::size_t>(k.alpha)],
               expected[p])
         << p;
+  }
   EXPECT_EQ(k.converter->counts().alpha_invalid, 3u);
   // Alpha 0 on straight colour: no light at all.
-  for (double v : k.spectrum(out, 0)) EXPECT_EQ(v, 0.0);
+  for (double v : k.spectrum(out, 0)) {
+    EXPECT_EQ(v, 0.0);
+  }
 }
 
 // --- Counts, HALF, threads ---
@@ -259,7 +267,9 @@ TEST(SpectralConverter, EveryPixelIsCountedByKind) {
   EXPECT_EQ(c.negative, 1u);
   EXPECT_EQ(c.negative_component, 2u);
   for (std::size_t p : {1u, 2u, 3u})
-    for (double v : k.spectrum(out, p)) EXPECT_EQ(v, 0.0) << "pixel " << p;
+    for (double v : k.spectrum(out, p)) {
+      EXPECT_EQ(v, 0.0) << "pixel " << p;
+    }
   // A colour outside the spectral locus (XYZ input: Y alone, x = 0, y = 1) is mapped into it.
   Kernel xyz(Mode::emission, false, false, false, "CIE-XYZ-D65");
   xyz.run({0.0f, 1.0f, 0.0f});
@@ -268,7 +278,9 @@ TEST(SpectralConverter, EveryPixelIsCountedByKind) {
   Kernel r(Mode::reflectance, false, false, false);
   const std::vector<float> bright = r.run({2, 2, 2, 0.5f, 0.5f, 0.5f});
   EXPECT_EQ(r.converter->counts().brighter_than_white, 1u);
-  for (double v : r.spectrum(bright, 0)) EXPECT_LE(v, 1.0);
+  for (double v : r.spectrum(bright, 0)) {
+    EXPECT_LE(v, 1.0);
+  }
   // Counts add up over calls.
   k.run({0.0f, 0.0f, 0.0f});
   EXPECT_EQ(k.converter->counts().black, 2u);
@@ -282,8 +294,9 @@ TEST(SpectralConverter, HalfOutputIsRoundedAndClampedToHalf) {
   for (std::size_t p = 0; p < 2; ++p)
     for (int c = 0; c < k.out_nch; ++c) {
       const float v = out[p * static_cast<std::size_t>(k.out_nch) + static_cast<std::size_t>(c)];
-      if (c >= k.band0)
+      if (c >= k.band0) {
         EXPECT_EQ(static_cast<float>(Imath::half(v)), v) << "pixel " << p << " channel " << c;
+      }
       EXPECT_LE(std::abs(v), 65504.0f) << "pixel " << p << " channel " << c;
     }
   EXPECT_EQ(k.converter->counts().half_overflow, 1u);
@@ -303,10 +316,11 @@ TEST(SpectralConverter, ManyPixelsOnSeveralThreadsAreEachConvertedAlone) {
   const std::vector<float> out = many.run(in);
   std::vector<std::vector<float>> alone;
   for (const auto& c : palette) alone.push_back(one.run({c[0], c[1], c[2]}));
-  for (std::size_t p = 0; p < n; ++p)
+  for (std::size_t p = 0; p < n; ++p) {
     ASSERT_TRUE(std::equal(alone[p % 4].begin(), alone[p % 4].end(),
                            out.begin() + static_cast<std::ptrdiff_t>(p) * many.out_nch))
         << "pixel " << p;
+  }
   EXPECT_EQ(many.converter->counts().black, n / 4);
   EXPECT_EQ(many.converter->counts().error_pixels, 3 * n / 4);
 }
