@@ -6,16 +6,12 @@
 #include <gtest/gtest.h>
 
 #include "colour/colour_space.h"
+#include "file_test_support.h"
 
 namespace spectralize {
 namespace {
 
-OIIO::ImageSpec spec_of(std::vector<std::string> names, OIIO::TypeDesc type = OIIO::TypeFloat) {
-  OIIO::ImageSpec spec(8, 8, static_cast<int>(names.size()), type);
-  spec.channelnames = std::move(names);
-  spec.alpha_channel = -1;
-  return spec;
-}
+using test::spec_of;
 
 TEST(ColourTags, KnownSpacesGetTheirStandardsPrimariesAndIds) {
   const ColourSpaces spaces = ColourSpaces::load();

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
@@ -38,20 +39,8 @@ namespace fs = std::filesystem;
 namespace spectralize {
 namespace {
 
-struct TempDir {
-  fs::path dir;
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::path(::testing::TempDir()) /
-          ("exr_writer_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("exr_writer") {}
 };
 
 const std::vector<std::string> kChannels = {

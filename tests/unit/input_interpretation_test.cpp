@@ -12,17 +12,13 @@
 #include <sstream>
 
 #include "colour/colour_space.h"
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
 namespace {
 
-OIIO::ImageSpec spec_of(std::vector<std::string> names, OIIO::TypeDesc type = OIIO::TypeFloat) {
-  OIIO::ImageSpec spec(8, 8, static_cast<int>(names.size()), type);
-  spec.channelnames = std::move(names);
-  spec.alpha_channel = -1;
-  return spec;
-}
+using test::spec_of;
 
 TEST(InputInterpretation, ColourAndAlphaChannelsByName) {
   ChannelRoles r = colour_channels(spec_of({"B", "G", "R", "A"}), "x.exr");

@@ -27,6 +27,7 @@
 #include <sstream>
 #include <vector>
 
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
@@ -42,21 +43,8 @@ std::string in_quotes(const std::string& text) {
   return out;
 }
 
-// A fresh folder under gtest's temporary directory, removed afterwards.
-struct TempDir {
-  fs::path dir;
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::path(::testing::TempDir()) /
-          ("safe_output_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("safe_output") {}
 };
 
 std::string read_all(const std::string& path) {

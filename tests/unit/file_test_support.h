@@ -1,0 +1,42 @@
+#pragma once
+// What the unit tests of the file layers share: a fresh folder per test, and image specs with
+// given channel names.
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace spectralize::test {
+
+/// A fresh folder under gtest's temporary directory, named for the test, removed afterwards.
+struct TempDir {
+  std::filesystem::path dir;
+  explicit TempDir(const std::string& prefix) {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = std::filesystem::path(::testing::TempDir()) /
+          (prefix + "_" + std::to_string(::getpid()) + "_" + info->name());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+};
+
+/// An 8x8 spec with these channels and no alpha.
+inline OIIO::ImageSpec spec_of(std::vector<std::string> names,
+                               OIIO::TypeDesc type = OIIO::TypeFloat) {
+  OIIO::ImageSpec spec(8, 8, static_cast<int>(names.size()), type);
+  spec.channelnames = std::move(names);
+  spec.alpha_channel = -1;
+  return spec;
+}
+
+}  // namespace spectralize::test
