@@ -34,8 +34,9 @@ test-long: deps build
 # The suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). -O1 -g1 (line
 # tables only): builds in 4.6 instead of 7 min on 2 cores. Left out, besides the long ones: the
 # sweeps that run one code path over many values (every setting, every compression, 10,000
-# random colours, the wide-gamut tables' whole volume); each path is run under the sanitizers
-# by the other tests, and the release build runs the sweeps.
+# random colours, the wide-gamut tables' whole volume), and the end-to-end suites of good inputs
+# on the ordinary paths (tests/CMakeLists.txt): each path is run under the sanitizers by the
+# suites of bad, broken and unusual inputs, and the release build runs everything.
 ASAN_SWEEPS = Spectralizer.TenThousandRandomColoursPerSpaceAndModeAt10nm|Guarantees.UpToDateMeansTheSameFileWouldBeWritten|CliImage.EveryCompressionWritesTheSameSamples|SettingsSchema.EverySettingThatShapesSpectraIsInTheCacheKeyReportAndAttributes|RtTable.EveryFeasibleColourIsExactAndBounded/(rec2020|acescg)_|clang_format
 test-asan: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DSPECTRALIZE_SANITIZE=address,undefined -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null

@@ -43,6 +43,13 @@ namespace {
 
 const OptionNames kKeywordNames{"", "output"};
 
+// An image job whose messages name options as this module's keywords ("format float").
+ImageJobOptions keyword_job() {
+  ImageJobOptions options;
+  options.shared.names = kKeywordNames;
+  return options;
+}
+
 // The scopes of the functions' keyword options (one schema: settings/settings.h).
 const OptionScope kSpectraScope{
     "spectra", kColor, {"print_format"}, {"method", "cache", "threads"}};
@@ -293,7 +300,8 @@ py::object convert(const py::object& input, const py::object& output, const std:
   const bool finished = run_interruptibly([&](const StopFlag& stop) {
     try {
       report = rgb ? report_json(run_to_rgb_job(in, out, settings, stops_on(stop), messages.log()))
-                   : report_json(run_image_job(in, out, settings, stops_on(stop), messages.log()));
+                   : report_json(run_image_job(in, out, settings, stops_on(stop), messages.log(),
+                                               keyword_job()));
     } catch (const Error& e) {
       failure = e.what();
     }
@@ -333,6 +341,7 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   }
   try {
     request.settings = checked_ingest_settings(read_options(options, kIngestScope), kKeywordNames);
+    request.names = kKeywordNames;
   } catch (const Error& e) {
     value_error(kIngestScope, e.what());
   }

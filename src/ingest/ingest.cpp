@@ -81,13 +81,14 @@ std::string request_key(const std::string& prefix, const IngestItem& item) {
 
 // The up-to-date record of an output, from what its header recorded: how it was decided and
 // what its conversion warned about.
-void recorded_decision(Json& r, ExrHeaderValues& recorded, const std::string& input) {
+void recorded_decision(Json& r, ExrHeaderValues& recorded, const std::string& input,
+                       const OptionNames& names) {
   r["colorspace"] = recorded.strings["spectralize:colorspace"];
   r["colorspace_reason"] = recorded.strings["spectralize:colorspaceReason"];
   r["mode"] = recorded.strings["spectralize:mode"];
   r["mode_reason"] = recorded.strings["spectralize:modeReason"];
   const std::vector<std::string> warnings =
-      recorded_warnings(recorded.strings, recorded.doubles, input);
+      recorded_warnings(recorded.strings, recorded.doubles, input, names);
   if (!warnings.empty()) r["warnings"] = warnings;
 }
 
@@ -210,7 +211,7 @@ Json process(const IngestItem& item, Batch& batch) {
       recorded = exr_header_values(item.output);
       if (!recorded.strings[kKeyAttribute].empty() &&
           recorded.strings[kRequestKeyAttribute] == asked) {
-        recorded_decision(r, recorded, item.input);
+        recorded_decision(r, recorded, item.input, batch.plan.request.names);
         return finish("up_to_date");
       }
     }
@@ -232,7 +233,7 @@ Json process(const IngestItem& item, Batch& batch) {
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided and what its conversion warned about.
     if (!force && recorded.strings[kKeyAttribute] == key) {
-      recorded_decision(r, recorded, item.input);
+      recorded_decision(r, recorded, item.input, batch.plan.request.names);
       return finish("up_to_date");
     }
     ImageJobOptions options;
@@ -240,6 +241,7 @@ Json process(const IngestItem& item, Batch& batch) {
     options.shared.spaces = &batch.spaces;
     options.shared.interpretation = &in;  // converted as decided (and keyed) here
     options.shared.share = &batch.share;
+    options.shared.names = batch.plan.request.names;
     options.output = WriteRules::named("the output of " + quoted_path(item.input))
                          .below(dest)
                          .folder_synced_by_caller();

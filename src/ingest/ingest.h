@@ -16,6 +16,7 @@
 
 #include "imagefile/safe_output.h"
 #include "pipeline/job_log.h"
+#include "pipeline/job_settings.h"
 #include "settings/settings.h"
 
 namespace spectralize {
@@ -30,6 +31,7 @@ struct IngestRequest {
   int shard = 0, shards = 1;         // this process does the files of shard `shard` of `shards`
                                      // (checked by ingest/shard.h's parse_shard or slurm_shard)
   Settings settings;                 // every file's settings (a list line may override them)
+  OptionNames names{"--", "-o"};     // how the caller spells options in messages (CLI, Python)
 };
 
 /// One planned file.

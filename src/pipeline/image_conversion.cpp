@@ -27,6 +27,7 @@ struct ImageConversion::Parts {
   std::unique_ptr<SpectralImageLayout> layout;
   std::unique_ptr<SpectralConverter> converter;
   std::string cache_key;
+  OptionNames names;  // the caller's spellings, for messages
 };
 
 ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
@@ -34,8 +35,9 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
                                  const Settings& settings, const LogFn& log,
                                  const ConversionContext& context)
     : parts_(std::make_unique<Parts>()) {
+  parts_->names = context.names;
   if (settings.integer_bits != 0)
-    throw Error("format uint" + std::to_string(settings.integer_bits) +
+    throw Error(context.names("format") + " uint" + std::to_string(settings.integer_bits) +
                 ": a spectral OpenEXR stores half or float samples");
   ImageReport& rep = report_;
   auto warn = [&](const std::string& message) {
@@ -127,7 +129,7 @@ void ImageConversion::load_cache(const LogFn& log,
   std::error_code ec;
   fs::create_directories(s.cache_dir, ec);
   if (!fs::is_directory(s.cache_dir, ec)) {
-    warn("--cache '" + s.cache_dir +
+    warn(p.names("cache") + " '" + s.cache_dir +
          "': not a folder that can be created; running without a persistent cache");
     return;
   }
@@ -148,7 +150,7 @@ ImageConversion::~ImageConversion() = default;
 
 std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
                                            const std::map<std::string, double>& doubles,
-                                           const std::string& input) {
+                                           const std::string& input, const OptionNames& names) {
   std::vector<std::string> out;
   if (auto it = strings.find(kWarningsAttribute); it != strings.end()) {
     const auto j = nlohmann::ordered_json::parse(it->second, nullptr, false);
@@ -156,8 +158,8 @@ std::vector<std::string> recorded_warnings(const std::map<std::string, std::stri
       for (const auto& w : j)
         if (w.is_string()) out.push_back(w.get<std::string>());
   }
-  for (const std::string& w : count_warnings(counts_from_attributes(doubles), "'" + input + "'",
-                                             "pixels", OptionNames{"--", "-o"}))
+  for (const std::string& w :
+       count_warnings(counts_from_attributes(doubles), "'" + input + "'", "pixels", names))
     out.push_back(w);
   return out;
 }
@@ -175,8 +177,8 @@ const ImageReport& ImageConversion::finish(const LogFn& log, bool save_cache) {
   report_.counts = p.converter->counts();
   report_.cache = p.table->stats();
   // What was not a plain exact conversion, for people and for the report.
-  for (const std::string& w : count_warnings(report_.counts, "'" + report_.input + "'", "pixels",
-                                             OptionNames{"--", "-o"})) {
+  for (const std::string& w :
+       count_warnings(report_.counts, "'" + report_.input + "'", "pixels", parts_->names)) {
     report_.warnings.push_back(w);
     log(0, w);
   }

@@ -16,6 +16,7 @@
 #include "colour/colour_space.h"
 #include "pipeline/image_report.h"
 #include "pipeline/job_log.h"
+#include "pipeline/job_settings.h"
 #include "pipeline/table_pool.h"
 #include "pipeline/thread_share.h"
 #include "settings/settings.h"
@@ -38,6 +39,9 @@ struct ConversionContext {
   // (kWarningsAttribute) and room for the counts (count_attributes, zero until the job fills
   // them in at the end: fixed-size doubles, so nothing moves).
   bool record_in_header = false;
+  // How the caller spells options in the conversion's messages (flags for the CLI, keywords
+  // for the Python module): "use --format float" or "use format float".
+  OptionNames names{"--", "-o"};
 };
 
 /// The header attribute that holds the warnings the conversion knew before its pixels (the
@@ -50,7 +54,7 @@ inline constexpr const char* kWarningsAttribute = "spectralize:warnings";
 /// (about `input`, as the conversion words them). Cost: O(attributes).
 std::vector<std::string> recorded_warnings(const std::map<std::string, std::string>& strings,
                                            const std::map<std::string, double>& doubles,
-                                           const std::string& input);
+                                           const std::string& input, const OptionNames& names);
 
 class ImageConversion {
  public:

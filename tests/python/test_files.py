@@ -53,6 +53,27 @@ def test_convert_back_to_rgb(sp, tmp_path):
     assert np.abs(b[inside][:, :3] - a[inside][:, :3]).max() <= 1e-3 * a.max()
 
 
+def test_messages_name_the_options_as_python_spells_them(sp, tmp_path):
+    # A light brighter than HALF holds (65504): the warning advises the keyword, not the flag.
+    src = tmp_path / "bright.exr"
+    buf = oiio.ImageBuf(oiio.ImageSpec(4, 2, 3, oiio.FLOAT))
+    oiio.ImageBufAlgo.fill(buf, (1e6, 2e6, 1e6))
+    assert buf.write(str(src)), buf.geterror()
+    with pytest.warns(sp.SpectralizeWarning) as caught:
+        sp.convert(src, tmp_path / "out.exr", mode="emission")
+    text = " ".join(str(w.message) for w in caught)
+    assert "use format float to keep them" in text, text
+    assert "--format" not in text, text
+    # The same through ingest().
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    os.link(src, lib / "bright.exr")
+    with pytest.warns(sp.SpectralizeWarning) as caught:
+        sp.ingest([lib], output=tmp_path / "done", mode="emission")
+    text = " ".join(str(w.message) for w in caught)
+    assert "--format" not in text, text
+
+
 def test_convert_refuses_bad_options_before_any_work(sp, tmp_path):
     src = IMAGES / "hdri_forest_256x128.exr"
     with pytest.raises(ValueError, match=r"convert\(\): output '.*x.png': the output is a spectral OpenEXR"):
