@@ -1,5 +1,5 @@
 // Google Benchmark kernels of the exact spectralizer (make bench).
-// BM_NaiveInverses is the baseline the issue names: a scalar loop over all C(N,3) triples with
+// BM_NaiveInverses is the naive baseline: a scalar loop over all C(N,3) triples with
 // precomputed 3x3 inverses. BM_SumAdmissible is the same work (enumerate, solve, sum the
 // admissible partial solutions) done by PaperSolver.
 

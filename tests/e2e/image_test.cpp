@@ -117,7 +117,7 @@ TEST(CliImage, HdriIsExactInFloatWithTheSpectralLayout) {
       ++checked;
     }
   EXPECT_GT(checked, 30000);
-  // 1e-5: the bar for float output (OCIO's float maths alone is ~1e-7).
+  // 1e-5: the float bar of docs/DESIGN.md §3 (OCIO's float maths alone is ~1e-7).
   EXPECT_LE(worst, 1e-5);
   EXPECT_LE(worst_preview, 1e-4);  // through OCIO's float matrices twice
   Json rep = read_json(s / "r.json");

@@ -1,8 +1,9 @@
 // libFuzzer target: the --color "R,G,B" parser, then the exact spectralizer on what it accepts
 // (10 nm, both modes, both models): parsed values are finite, results never crash, spectra are
-// finite and non-negative (reflectances <= 1), and exact to the bar (1e-5 relative).
-// Fuzzing found reflectances of dark purples next to the solid's boundary where the bounded
-// projection stops at ~1e-5 (they say so in their message): hence 1e-5 here, not double precision.
+// finite and non-negative (reflectances <= 1), and exact to the float bar of docs/DESIGN.md §3
+// (1e-5 relative). Fuzzing found reflectances of dark purples next to the solid's boundary where
+// the bounded projection stops at ~1e-5 (they say so in their message): hence 1e-5 here, not double
+// precision.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

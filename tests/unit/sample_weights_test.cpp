@@ -155,7 +155,7 @@ TEST(SampleWeights, PiecewiseLinearInterpolatesAndIsZeroOutside) {
 // --- SampleWeights against the independent reference integration ---
 
 TEST(SampleWeights, WeightsReproduceTheReferenceIntegration) {
-  // 400:701:7 stands in for the brief's 400:700:7, which is not a grid (300/7 steps).
+  // 400:701:7 stands in for 400:700:7, which is not a grid (300/7 steps).
   const char* grids[] = {"380:780:5", "380:780:10",    "360:830:1",
                          "400:701:7", "380.5:779.5:3", "380:780:0.5"};
   std::mt19937 rng(20240611);
