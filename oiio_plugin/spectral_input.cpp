@@ -21,7 +21,8 @@
 #include "imagefile/output_metadata.h"
 #include "imagefile/safe_output.h"
 #include "pipeline/image_conversion.h"
-#include "pipeline/rgb_from_spectral.h"
+#include "pipeline/job_plan.h"
+#include "pipeline/rgb_conversion.h"
 #include "settings/recipe.h"
 #include "spectralize/core/error.h"
 #include "spectralize/version.h"
@@ -77,7 +78,7 @@ class SpectralInput final : public ImageInput {
   // RGB -> spectral
   std::unique_ptr<spectralize::ImageConversion> conversion_;
   // spectral -> RGB
-  std::unique_ptr<spectralize::RgbFromSpectral> to_rgb_;
+  std::unique_ptr<spectralize::RgbConversion> to_rgb_;
   // The current strip of converted rows, as floats.
   int strip_y0_ = 0, strip_y1_ = 0;
   std::vector<float> in_rows_, strip_;
@@ -126,25 +127,24 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
     cache_write_ = recipe.cache_write;
     if (!cache_write_ && !settings_.cache_dir.empty() && !fs::is_directory(settings_.cache_dir, ec))
       settings_.cache_dir.clear();
-    const auto spaces = spectralize::ColourSpaces::load(settings_.config);
-    if (!settings_.colorspace.empty()) settings_.colorspace = spaces.resolve(settings_.colorspace);
     auto log = [](int, const std::string&) {};  // the plugin has no console: errors only
+    // The recipe's keys name the options in messages.
+    const spectralize::OptionNames names{"", "the recipe's output"};
     if (recipe.to_rgb) {
       source_ = std::make_unique<spectralize::ImageReader>(recipe.source, 4);
-      const ImageSpec& src = source_->spec();
-      const auto layout = spectralize::analyse_spectral_layout(src, recipe.source);
-      if (settings_.colorspace.empty())
-        settings_.colorspace = spectralize::default_colour_space(spaces, true).first;
-      to_rgb_ = std::make_unique<spectralize::RgbFromSpectral>(layout, settings_, spaces);
-      std::string warning;
-      m_spec = spectralize::rgb_output_spec(src, layout, settings_, spaces,
-                                            spectralize::output_date_time(warning));
+      const auto plan =
+          spectralize::planned_input(spectralize::plan_to_rgb(settings_, "", false, true, names),
+                                     recipe.source, source_->spec());
+      to_rgb_ =
+          std::make_unique<spectralize::RgbConversion>(plan, source_->spec(), "", nullptr, log);
+      m_spec = to_rgb_->output_spec();
     } else {
       source_ = std::make_unique<spectralize::ImageReader>(
-          recipe.source, static_cast<int>(settings_.spectral.grid.size()) + 4, true);
+          recipe.source, spectralize::spectral_output_channels(settings_), true);
+      const auto plan = spectralize::planned_input(
+          spectralize::plan_to_spectral(settings_, "", names), recipe.source, source_->spec());
       conversion_ = std::make_unique<spectralize::ImageConversion>(
-          recipe.source, source_->spec(), source_->format_name(), source_->straight_alpha(),
-          settings_, log);
+          plan, source_->spec(), source_->format_name(), source_->straight_alpha(), log);
       m_spec = conversion_->output_spec();
     }
     // Scanlines only: a reader presents the image; tiles are the writer's business.
@@ -185,8 +185,7 @@ bool SpectralInput::fill_strip(int y) {
     if (conversion_)
       conversion_->convert(in_rows_.data(), n, strip_.data());
     else
-      to_rgb_->convert(in_rows_.data(), src.nchannels, n, strip_.data(),
-                       spectralize::rgb_sample_type(settings_));
+      to_rgb_->convert(in_rows_.data(), n, strip_.data());
   } catch (const std::exception& e) {
     errorfmt("'{}': {}", recipe_path_, e.what());
     strip_y0_ = strip_y1_ = 0;

@@ -25,7 +25,7 @@
 #include "pipeline/colour_array.h"
 #include "pipeline/image_job.h"
 #include "pipeline/image_report.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/render_table.h"
 #include "pipeline/table_pool.h"
 #include "py_arrays.h"
@@ -44,12 +44,6 @@ namespace {
 const OptionNames kKeywordNames{"", "output"};
 
 // An image job whose messages name options as this module's keywords ("format float").
-ImageJobOptions keyword_job() {
-  ImageJobOptions options;
-  options.shared.names = kKeywordNames;
-  return options;
-}
-
 // The scopes of the functions' keyword options (one schema: settings/settings.h).
 const OptionScope kSpectraScope{
     "spectra", kColor, {"print_format"}, {"method", "cache", "threads"}};
@@ -141,8 +135,8 @@ ColourArrays& colour_arrays(const Settings& s, Messages& messages) {
   auto it = st.arrays.find(key);
   if (it != st.arrays.end()) return *it->second;
   try {
-    auto arrays = std::make_unique<ColourArrays>(checked_ingest_settings(s, kKeywordNames), st.pool,
-                                                 messages.log());
+    auto arrays = std::make_unique<ColourArrays>(
+        plan_colours(s, ColourSubject::colours, kKeywordNames), st.pool, messages.log());
     return *(st.arrays[key] = std::move(arrays));
   } catch (const Error& e) {
     value_error(kSpectraScope, e.what());
@@ -243,14 +237,14 @@ py::array_t<float> to_rgb(const py::object& values, const py::object& wavelength
   const std::vector<double> nm = read_wavelength_array(wavelengths, "to_rgb(): wavelengths");
   if (nm.empty()) throw py::value_error("to_rgb(): wavelengths: an empty array");
   const FloatArray in = read_float_array(values, "to_rgb(): values", nm.size());
-  const bool emissive = settings.mode != ModeChoice::reflectance;
   py::array_t<float> out = new_float_array(in.shape, 3);
   float* o = out.mutable_data();
   std::string failure;
   {
     py::gil_scoped_release release;
     try {
-      rgb_of_spectra(in.data, in.rows, nm, emissive, settings, o, "wavelengths: ");
+      const JobPlan plan = plan_colours(settings, ColourSubject::spectra, kKeywordNames);
+      rgb_of_spectra(in.data, in.rows, nm, plan, o, "wavelengths: ");
     } catch (const Error& e) {
       failure = e.what();
     }
@@ -284,14 +278,14 @@ py::object convert(const py::object& input, const py::object& output, const std:
   const std::string in = path_text(input, "convert", "input");
   const std::string out = path_text(output, "convert", "output");
   std::vector<std::string> given;
-  Settings settings = read_options(options, scope, &given);
+  const Settings asked = read_options(options, scope, &given);
+  JobPlan plan;
   try {
     const auto is_given = [&](const char* key) {
       return std::find(given.begin(), given.end(), key) != given.end();
     };
-    settings = rgb ? checked_to_rgb_settings(settings, out, is_given("format"),
-                                             is_given("compression"), kKeywordNames)
-                   : checked_image_settings(settings, out, kKeywordNames);
+    plan = rgb ? plan_to_rgb(asked, out, is_given("format"), is_given("compression"), kKeywordNames)
+               : plan_to_spectral(asked, out, kKeywordNames);
   } catch (const Error& e) {
     value_error(scope, e.what());
   }
@@ -299,9 +293,8 @@ py::object convert(const py::object& input, const py::object& output, const std:
   std::string report, failure;
   const bool finished = run_interruptibly([&](const StopFlag& stop) {
     try {
-      report = rgb ? report_json(run_to_rgb_job(in, out, settings, stops_on(stop), messages.log()))
-                   : report_json(run_image_job(in, out, settings, stops_on(stop), messages.log(),
-                                               keyword_job()));
+      report = rgb ? report_json(run_to_rgb_job(plan, in, out, stops_on(stop), messages.log()))
+                   : report_json(run_image_job(plan, in, out, stops_on(stop), messages.log(), {}));
     } catch (const Error& e) {
       failure = e.what();
     }
@@ -340,7 +333,8 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
     }
   }
   try {
-    request.settings = checked_ingest_settings(read_options(options, kIngestScope), kKeywordNames);
+    request.settings =
+        plan_to_spectral(read_options(options, kIngestScope), "", kKeywordNames).settings;
     request.names = kKeywordNames;
   } catch (const Error& e) {
     value_error(kIngestScope, e.what());
@@ -399,9 +393,10 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
 // spectralize.table(output, **options): `spectralize table -o output`, the same bytes.
 py::dict table(const py::object& output, const py::kwargs& options) {
   const std::string out = path_text(output, "table", "output");
-  Settings settings = read_options(options, kTableScope);
+  const Settings asked = read_options(options, kTableScope);
+  JobPlan plan;
   try {
-    settings = checked_table_settings(settings, out, kKeywordNames);
+    plan = plan_table(asked, out, kKeywordNames);
   } catch (const Error& e) {
     value_error(kTableScope, e.what());
   }
@@ -412,7 +407,7 @@ py::dict table(const py::object& output, const py::kwargs& options) {
     py::gil_scoped_release release;
     try {
       AtomicOutput file(out, {});  // checked before the work
-      made = make_render_table(settings, messages.log());
+      made = make_render_table(plan, messages.log());
       file.write(made.bytes);
       file.commit();
     } catch (const Error& e) {
@@ -424,9 +419,9 @@ py::dict table(const py::object& output, const py::kwargs& options) {
   py::dict d;
   d["output"] = out;
   d["colorspace"] = made.colorspace;
-  d["mode"] = std::string(to_string(settings.spectral.mode));
-  d["model"] = settings.spectral.model;
-  d["wavelengths"] = settings.spectral.grid.to_string();
+  d["mode"] = std::string(to_string(plan.settings.spectral.mode));
+  d["model"] = plan.settings.spectral.model;
+  d["wavelengths"] = plan.settings.spectral.grid.to_string();
   d["bytes"] = made.bytes.size();
   d["spectra"] = made.spectra;
   d["boundary_cells"] = made.boundary_cells;

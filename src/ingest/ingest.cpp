@@ -130,8 +130,7 @@ struct Interrupted : std::exception {
 struct Batch {
   const IngestPlan& plan;
   const LogFn& log;
-  ColourSpaces spaces;  // the config, parsed once
-  ThreadShare share;    // the batch's cores, split between the files converting now
+  ThreadShare share;  // the batch's cores, split between the files converting now
   TablePool pool;
   std::atomic<std::uint64_t> stale{0};
   std::mutex swept_mutex{};
@@ -219,17 +218,19 @@ Json process(const IngestItem& item, Batch& batch) {
     // by a data colour space; else light or surface. The settings as resolved for this file
     // decide whether its output is up to date, as they decide what the conversion writes into
     // the header; the conversion takes this decision as it is.
-    InputInterpretation in;
+    JobPlan file_plan = batch.plan.job;
+    file_plan.settings = s;
     {
-      const ImageReader reader(item.input, static_cast<int>(s.spectral.grid.size()) + 4, true);
-      in = interpret_colour(item.input, reader.spec(), s, batch.spaces);
+      const ImageReader reader(item.input, spectral_output_channels(s), true);
+      const InputInterpretation in =
+          interpret_colour(item.input, reader.spec(), s, file_plan.colour_spaces());
       if (!in.data_reason.empty()) {
         if (!in.warnings.empty()) r["warnings"] = in.warnings;
         return data(in.data_reason);
       }
-      decide_light_or_surface(in, item.input, reader.spec(), s, batch.spaces);
+      file_plan = planned_input(file_plan, item.input, reader.spec(), &in);
     }
-    const std::string key = ingest_key(prefix, resolved_settings(s, in, batch.spaces));
+    const std::string key = ingest_key(prefix, file_plan.settings);
     // Up to date: the key recorded in the output's header, which also says how the file was
     // decided and what its conversion warned about.
     if (!force && recorded.strings[kKeyAttribute] == key) {
@@ -238,10 +239,7 @@ Json process(const IngestItem& item, Batch& batch) {
     }
     ImageJobOptions options;
     options.shared.pool = &batch.pool;
-    options.shared.spaces = &batch.spaces;
-    options.shared.interpretation = &in;  // converted as decided (and keyed) here
     options.shared.share = &batch.share;
-    options.shared.names = batch.plan.request.names;
     options.output = WriteRules::named("the output of " + quoted_path(item.input))
                          .below(dest)
                          .folder_synced_by_caller();
@@ -256,8 +254,8 @@ Json process(const IngestItem& item, Batch& batch) {
     const ProgressFn check_stop = [&batch](std::uint64_t, std::uint64_t) {
       if (batch.stopping()) throw Interrupted();
     };
-    const ImageReport rep =
-        run_image_job(item.input, item.output, s, check_stop, batch.log, options);
+    const ImageReport rep = run_image_job(file_plan, item.input, item.output, check_stop, batch.log,
+                                          options);  // as decided (and keyed) here
     r["colorspace"] = rep.colorspace;
     r["colorspace_reason"] = rep.colorspace_reason;
     r["mode"] = std::string(to_string(rep.settings.spectral.mode));
@@ -294,8 +292,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   // The planned files into the registry: every AtomicOutput of the batch is checked against all
   // of them, not only against what was written so far.
   plan.files.claim();
-  Batch batch{plan, log, ColourSpaces::load(base.config), ThreadShare(total_threads), {}, {},
-              {},   {}};
+  Batch batch{plan, log, ThreadShare(total_threads), {}, {}, {}, {}};
   batch.stop = stop;
   // The manifest's place is checked (and its temporary file made) before any work; a killed
   // earlier run's temporary manifest goes (unless the manifest is a stream).

@@ -16,7 +16,7 @@
 
 #include "imagefile/safe_output.h"
 #include "pipeline/job_log.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "settings/settings.h"
 
 namespace spectralize {
@@ -66,6 +66,7 @@ struct IngestPlan {
   std::string batch;              // the batch's identity (every shard's plan agrees)
   std::string config_identity;    // the OCIO config by content (ColourSpaces::content_identity)
   FilePlan files;                 // everything the batch reads and writes, checked
+  JobPlan job;                    // the request's settings planned: the config, parsed once
 };
 
 /// Walks, expands and reads the inputs (each file once, whatever its spellings), names the

@@ -435,7 +435,8 @@ IngestPlan plan_ingest(const IngestRequest& request) {
   for (const Found& f : found) files.read(f.input, "the input");
   if (!request.inputs_from.empty()) files.read(request.inputs_from, "the --inputs-from list");
   {
-    const ColourSpaces spaces = ColourSpaces::load(request.settings.config);
+    plan.job = plan_to_spectral(request.settings, "", request.names);
+    const ColourSpaces& spaces = plan.job.colour_spaces();
     plan.config_identity = spaces.content_identity();
     if (const std::string config = config_path(request.settings); !config.empty())
       files.read(config, "the OCIO config");

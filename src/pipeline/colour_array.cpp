@@ -10,25 +10,14 @@
 
 namespace spectralize {
 
-namespace {
-
-Settings resolved(Settings s, const ColourSpaces& spaces) {
-  s.colorspace = s.colorspace.empty() ? default_colour_space(spaces, true).first
-                                      : spaces.resolve(s.colorspace);
-  if (spaces.is_data(s.colorspace))
-    throw Error("colorspace '" + s.colorspace + "': is a data space (not colour) in the config");
-  s.spectral.mode = s.mode == ModeChoice::reflectance ? Mode::reflectance : Mode::emission;
-  s.half = false;
-  return s;
-}
-
-}  // namespace
-
-ColourArrays::ColourArrays(const Settings& settings, TablePool& pool, const LogFn& log)
-    : spaces_(ColourSpaces::load(settings.config)) {
-  settings_ = resolved(settings, spaces_);
-  to_xyz_ = spaces_.to_xyz(settings_.colorspace);
-  entry_ = &pool.get(settings_, table_frame(spaces_, settings_.colorspace), log);
+ColourArrays::ColourArrays(const JobPlan& plan, TablePool& pool, const LogFn& log)
+    : settings_(plan.settings), spaces_(plan.spaces) {
+  if (spaces_->is_data(settings_.colorspace))
+    throw Error(plan.names("colorspace") + " '" + settings_.colorspace +
+                "': is a data space (not colour) in the config");
+  settings_.half = false;
+  to_xyz_ = spaces_->to_xyz(settings_.colorspace);
+  entry_ = &pool.get(settings_, table_frame(*spaces_, settings_.colorspace), log);
 }
 
 PixelCounts ColourArrays::spectra(const float* rgb, std::size_t n, float* out) const {
@@ -42,14 +31,12 @@ PixelCounts ColourArrays::spectra(const float* rgb, std::size_t n, float* out) c
 }
 
 RgbCounts rgb_of_spectra(const float* spectra, std::size_t n,
-                         const std::vector<double>& wavelengths, bool emissive,
-                         const Settings& settings, float* rgb, const std::string& where) {
-  const ColourSpaces spaces = ColourSpaces::load(settings.config);
-  Settings s = settings;
-  if (s.display.empty())
-    s.colorspace = s.colorspace.empty() ? default_colour_space(spaces, true).first
-                                        : spaces.resolve(s.colorspace);
-  const SpectralLayoutInfo layout = spectral_layout_of_samples(wavelengths, emissive, where);
+                         const std::vector<double>& wavelengths, const JobPlan& plan, float* rgb,
+                         const std::string& where) {
+  const ColourSpaces& spaces = plan.colour_spaces();
+  const Settings& s = plan.settings;
+  const SpectralLayoutInfo layout =
+      spectral_layout_of_samples(wavelengths, s.spectral.mode == Mode::emission, where);
   const RgbFromSpectral integrate(layout, s, spaces);
   const int bands = static_cast<int>(wavelengths.size());
   RgbCounts total;

@@ -5,11 +5,13 @@
 // the reference integration and OCIO as --to-rgb does.
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "colour/colour_space.h"
 #include "pipeline/job_log.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/rgb_from_spectral.h"
 #include "pipeline/spectral_converter.h"
 #include "pipeline/table_pool.h"
@@ -19,11 +21,10 @@ namespace spectralize {
 
 class ColourArrays {
  public:
-  /// Resolves the colour space (settings.colorspace, else the config's scene-linear space) and
-  /// the mode ("auto" is emission: float colours are light, as for --color), and takes the
-  /// spectralizer and table for them from `pool` (loading settings.cache_dir). Throws Error for
-  /// an unknown or data colour space. Cost: the config and, the first time, the table's setup.
-  ColourArrays(const Settings& settings, TablePool& pool, const LogFn& log);
+  /// For the colours `plan` (plan_colours of colours: colour space and mode resolved) says:
+  /// takes the spectralizer and table for them from `pool` (loading settings.cache_dir). Throws
+  /// Error for a data colour space. Cost: the first time, the table's setup.
+  ColourArrays(const JobPlan& plan, TablePool& pool, const LogFn& log);
 
   /// The settings as used (colour space and mode resolved). Cost: O(1).
   const Settings& settings() const { return settings_; }
@@ -37,7 +38,7 @@ class ColourArrays {
 
  private:
   Settings settings_;
-  ColourSpaces spaces_;
+  std::shared_ptr<const ColourSpaces> spaces_;
   TablePool::Entry* entry_ = nullptr;
   ColourTransform to_xyz_;
 };
@@ -45,10 +46,10 @@ class ColourArrays {
 /// n spectra of wavelengths.size() floats each (sample i at wavelengths[i] nm) to n packed RGB
 /// triples in settings.colorspace (or settings.display and view): emission integrated with the
 /// observer, reflectance under settings.spectral.illuminant (white balanced unless as_lit).
-/// `emissive` says which. Throws Error (starting with `where`) for bad wavelengths or an unknown
-/// colour space. Cost: O(n x bands).
+/// `plan` (plan_colours of spectra) says which by its mode. Throws Error (starting with
+/// `where`) for bad wavelengths. Cost: O(n x bands).
 RgbCounts rgb_of_spectra(const float* spectra, std::size_t n,
-                         const std::vector<double>& wavelengths, bool emissive,
-                         const Settings& settings, float* rgb, const std::string& where);
+                         const std::vector<double>& wavelengths, const JobPlan& plan, float* rgb,
+                         const std::string& where);
 
 }  // namespace spectralize

@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
@@ -30,15 +29,14 @@ struct ImageConversion::Parts {
   OptionNames names;  // the caller's spellings, for messages
 };
 
-ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
+ImageConversion::ImageConversion(const JobPlan& plan, const OIIO::ImageSpec& spec,
                                  const std::string& format_name, bool straight_alpha,
-                                 const Settings& settings, const LogFn& log,
-                                 const ConversionContext& context)
+                                 const LogFn& log, const ConversionContext& context)
     : parts_(std::make_unique<Parts>()) {
-  parts_->names = context.names;
-  if (settings.integer_bits != 0)
-    throw Error(context.names("format") + " uint" + std::to_string(settings.integer_bits) +
-                ": a spectral OpenEXR stores half or float samples");
+  if (!plan.decided() || plan.to_rgb)
+    throw Error("internal: an image conversion needs a plan decided for its RGB input");
+  parts_->names = plan.names;
+  const std::string& input = plan.input;
   ImageReport& rep = report_;
   auto warn = [&](const std::string& message) {
     rep.warnings.push_back(message);
@@ -49,22 +47,15 @@ ImageConversion::ImageConversion(const std::string& input, const OIIO::ImageSpec
   rep.width = spec.width;
   rep.height = spec.height;
   rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
-  // The batch's config and decision where it has them: one parse per batch, and the file is
-  // converted exactly as it was decided (and keyed) by the caller.
-  std::optional<ColourSpaces> own_spaces;
-  if (!context.spaces) own_spaces = ColourSpaces::load(settings.config);
-  const ColourSpaces& spaces = context.spaces ? *context.spaces : *own_spaces;
-  const InputInterpretation in = context.interpretation
-                                     ? *context.interpretation
-                                     : interpret_input(input, spec, settings, spaces);
+  const ColourSpaces& spaces = plan.colour_spaces();
+  const InputInterpretation& in = plan.interpretation;
   for (const std::string& w : in.warnings) warn(w);
   rep.colorspace = in.colorspace;
   rep.colorspace_reason = in.colorspace_reason;
   rep.mode_reason = in.mode_reason;
   rep.alpha = in.channels.alpha >= 0;
   rep.straight_alpha = straight_alpha;
-  // Mode, colour space and preview space as decided for this file: what the header records.
-  rep.settings = resolved_settings(settings, in, spaces);
+  rep.settings = plan.settings;  // mode, colour space and preview space as decided for the file
   Settings& s = rep.settings;
   rep.preview_colorspace = s.preview_colorspace;
   rep.bands = static_cast<int>(s.spectral.grid.size());

@@ -12,11 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "classify/input_interpretation.h"
-#include "colour/colour_space.h"
 #include "pipeline/image_report.h"
 #include "pipeline/job_log.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/table_pool.h"
 #include "pipeline/thread_share.h"
 #include "settings/settings.h"
@@ -30,18 +28,13 @@ using HeaderAttributes =
 
 /// What a conversion may share with others (a batch's) instead of making its own.
 struct ConversionContext {
-  TablePool* pool = nullptr;                            // spectralizers, tables and the cache
-  const ColourSpaces* spaces = nullptr;                 // the config, parsed once
-  const InputInterpretation* interpretation = nullptr;  // the input, decided by the caller
+  TablePool* pool = nullptr;           // spectralizers, tables and the cache
   const ThreadShare* share = nullptr;  // a batch's cores: its share, asked at every convert()
   HeaderAttributes attributes;         // more header attributes (they win over the conversion's)
   // A file job's: the header records the warnings known before the pixels
   // (kWarningsAttribute) and room for the counts (count_attributes, zero until the job fills
   // them in at the end: fixed-size doubles, so nothing moves).
   bool record_in_header = false;
-  // How the caller spells options in the conversion's messages (flags for the CLI, keywords
-  // for the Python module): "use --format float" or "use format float".
-  OptionNames names{"--", "-o"};
 };
 
 /// The header attribute that holds the warnings the conversion knew before its pixels (the
@@ -58,15 +51,14 @@ std::vector<std::string> recorded_warnings(const std::map<std::string, std::stri
 
 class ImageConversion {
  public:
-  /// Interprets an input of `spec` (channels, colour space, mode, each with its reason; file
-  /// rules need `input`'s name), builds the spectralizer and table (loading the cache of
-  /// settings.cache_dir), the output layout and the kernel. Warnings go to `log` and the report.
-  /// Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the cache file,
-  /// plus parsing the config and deciding the input unless `context` gives them (an
-  /// interpretation given must be interpret_input's for this input and settings).
-  ImageConversion(const std::string& input, const OIIO::ImageSpec& spec,
-                  const std::string& format_name, bool straight_alpha, const Settings& settings,
-                  const LogFn& log, const ConversionContext& context = {});
+  /// Converts the input `plan` decided (planned_input: channels, colour space, mode, each with
+  /// its reason, the settings as resolved for the file; its messages spell options as the
+  /// plan's caller does) of header `spec`: builds the spectralizer and table (loading the
+  /// cache of settings.cache_dir), the output layout and the kernel. Warnings go to `log` and
+  /// the report. Throws Error naming the input. Cost: ~1 ms (gamut facets) plus loading the
+  /// cache file.
+  ImageConversion(const JobPlan& plan, const OIIO::ImageSpec& spec, const std::string& format_name,
+                  bool straight_alpha, const LogFn& log, const ConversionContext& context = {});
   ~ImageConversion();
 
   /// The spectral image's spec (size, channels, sample type, attributes). Cost: O(1).

@@ -23,6 +23,7 @@
 #include "imagefile/safe_output.h"
 #include "imagefile/strip_plan.h"
 #include "pipeline/image_conversion.h"
+#include "pipeline/rgb_conversion.h"
 #include "pipeline/rgb_from_spectral.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
@@ -235,22 +236,24 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
 
 }  // namespace
 
-ImageReport run_image_job(const std::string& input, const std::string& output,
-                          const Settings& settings, const ProgressFn& progress, const LogFn& log,
+ImageReport run_image_job(const JobPlan& plan, const std::string& input, const std::string& output,
+                          const ProgressFn& progress, const LogFn& log,
                           const ImageJobOptions& options) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
-  const int out_channels = static_cast<int>(settings.spectral.grid.size()) + 4;
-  ImageReader reader(input, out_channels, /*straight_alpha=*/true);
+  const Settings& settings = plan.settings;
+  ImageReader reader(input, spectral_output_channels(settings), /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
   if (!options.shared.pool) limit_threads(settings.threads);  // a batch sets its threads once
   // The header records the warnings and, filled in at the end, the counts.
   ConversionContext context = options.shared;
   context.record_in_header = true;
-  ImageConversion conversion(input, reader.spec(), reader.format_name(), reader.straight_alpha(),
-                             settings, log, context);
+  // A batch decides (and keys) its files before it converts them; a single job here.
+  const JobPlan decided = plan.decided() ? plan : planned_input(plan, input, reader.spec());
+  ImageConversion conversion(decided, reader.spec(), reader.format_name(), reader.straight_alpha(),
+                             log, context);
   {
     // What OpenEXR must hold, now that the channels are known (docs/DESIGN.md §9).
     const OIIO::ImageSpec& o = conversion.output_spec();
@@ -259,7 +262,7 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
     want.compression = settings.compression;
     want.tile_width = settings.tile_width;
     want.tile_height = settings.tile_height;
-    want.channels = o.nchannels;
+    want.channels = decided.output_channels;
     check_output(output, want);
   }
   if (reader.mip_levels() > 1 || reader.subimages() > 1)
@@ -296,120 +299,37 @@ ImageReport run_image_job(const std::string& input, const std::string& output,
   return rep;
 }
 
-ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
-                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
+ToRgbReport run_to_rgb_job(const JobPlan& plan, const std::string& input, const std::string& output,
+                           const ProgressFn& progress, const LogFn& log,
                            const std::function<void(const ToRgbReport&)>& before_commit) {
   install_cleanup_handlers();
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
-  ToRgbReport rep;
-  rep.input = input;
-  rep.output = output;
+  const Settings& settings = plan.settings;
   ImageReader reader(input, 4);
   const OIIO::ImageSpec& spec = reader.spec();
-  const SpectralLayoutInfo layout = analyse_spectral_layout(spec, input);
+  const JobPlan decided = planned_input(plan, input, spec);
   // What the output's format holds, checked before any work (docs/DESIGN.md §9): the sample
   // type, compression, tiles, and alpha if the file has it.
-  const OIIO::TypeDesc type = rgb_sample_type(settings);
   OutputRequest want;
-  want.samples = sample_type_name(type);
+  want.samples = sample_type_name(rgb_sample_type(settings));
   want.compression = settings.compression;
   want.tile_width = settings.tile_width;
   want.tile_height = settings.tile_height;
-  want.channels = layout.alpha >= 0 ? 4 : 3;
-  want.alpha = layout.alpha >= 0;
+  want.channels = decided.output_channels;
+  want.alpha = decided.spectral.alpha >= 0;
   const OutputFormat& format = check_output(output, want);
-  rep.output_format = std::string(format.name);
   AtomicOutput file(output, WriteRules::named("the output"),
                     std::span<const std::string>(&input, 1));
   limit_threads(settings.threads);
-  auto warn = [&](const std::string& message) {
-    rep.warnings.push_back(message);
-    log(0, message);
-  };
-  const ColourSpaces spaces = ColourSpaces::load(settings.config);
-  rep.settings = settings;
-  rep.settings.spectral.mode = layout.emissive ? Mode::emission : Mode::reflectance;
-  const RgbFromSpectral to_rgb(layout, settings, spaces);
-  rep.colorspace = settings.display.empty()
-                       ? settings.colorspace
-                       : settings.display + " / " +
-                             (settings.view.empty() ? std::string("default view") : settings.view);
-  rep.kind = layout.emissive ? "emissive" : "reflective";
-  rep.width = spec.width;
-  rep.height = spec.height;
-  rep.pixels = static_cast<std::uint64_t>(spec.width) * static_cast<std::uint64_t>(spec.height);
-  rep.bands = static_cast<int>(layout.wavelengths.size());
-  rep.first_nm = layout.wavelengths.front();
-  rep.last_nm = layout.wavelengths.back();
-  rep.polarised = layout.polarised;
+  RgbConversion conversion(decided, spec, output, &format, log);
+  stream(
+      reader, file, std::string(format.name), conversion.output_spec(),
+      [&](const float* src, std::size_t n, float* dst) { conversion.convert(src, n, dst); },
+      progress, settings.threads);
+  ToRgbReport rep = conversion.finish(log);
   rep.mip_levels = reader.mip_levels();
   rep.subimages = reader.subimages();
-  if (layout.polarised) log(1, "'" + input + "': polarised: S0 (intensity) used, S1..S3 ignored");
-  if (!layout.unparsed.empty()) {
-    std::string list;
-    for (const std::string& n : layout.unparsed) list += (list.empty() ? "" : ", ") + n;
-    warn("'" + input + "': channels " + clip(list, 300) +
-         " look spectral but do not follow the layout's naming; ignored");
-  }
-  std::string date_warning;
-  const std::string date_time = output_date_time(date_warning);
-  if (!date_warning.empty()) warn(date_warning);
-  OIIO::ImageSpec ospec = rgb_output_spec(spec, layout, settings, spaces, date_time);
-  apply_compression(ospec, format, settings.compression);
-  // The tags this format can hold (an ICC profile for TIFF, PNG, JPEG), or a warning.
-  if (const std::string written = ospec.get_string_attribute("oiio:ColorSpace"); !written.empty())
-    for (const std::string& w : tag_colour_space(ospec, spaces, written, rep.output_format, output))
-      warn(w);
-  else
-    warn("'" + output + "': the OCIO view '" + settings.display + " / " + settings.view +
-         "' names no colour space in the config; the file carries no colour tag");
-  if (settings.integer_bits != 0 && settings.display.empty() &&
-      spaces.is_linear(settings.colorspace))
-    warn("'" + output + "': linear '" + settings.colorspace + "' in " +
-         std::to_string(settings.integer_bits) +
-         "-bit samples bands in the shadows; an encoded space (--colorspace \"sRGB - Texture\") "
-         "or --display suits integer files");
-  const int in_nch = spec.nchannels, out_nch = to_rgb.output_channels();
-  std::mutex mutex;
-  RgbCounts total;
-  stream(
-      reader, file, rep.output_format, ospec,
-      [&](const float* src, std::size_t n, float* dst) {
-        OIIO::parallel_for_chunked(
-            0, static_cast<int64_t>(n), 4096,
-            [&](int64_t b, int64_t e) {
-              ensure_signal_stack();  // OIIO's pool threads too
-              const RgbCounts c =
-                  to_rgb.convert(src + b * in_nch, in_nch, static_cast<std::size_t>(e - b),
-                                 dst + b * out_nch, type);
-              std::lock_guard<std::mutex> lock(mutex);
-              total.invalid += c.invalid;
-              total.half_overflow += c.half_overflow;
-              total.float_overflow += c.float_overflow;
-              total.clipped += c.clipped;
-            },
-            OIIO::paropt(settings.threads));
-      },
-      progress, settings.threads);
-  rep.invalid_pixels = total.invalid;
-  rep.half_overflow_pixels = total.half_overflow;
-  rep.float_overflow_pixels = total.float_overflow;
-  if (total.invalid > 0)
-    warn("'" + input + "': " + std::to_string(total.invalid) +
-         " pixels have NaN or infinite samples, taken as 0");
-  if (total.half_overflow > 0)
-    warn("'" + output + "': " + std::to_string(total.half_overflow) +
-         " pixels exceed HALF's range (65504) and were clamped; use --format float to keep them");
-  if (total.float_overflow > 0)
-    warn("'" + output + "': " + std::to_string(total.float_overflow) +
-         " pixels exceed float's range (3.4e38) and were clamped to it; no sample type holds "
-         "them (the spectra are brighter than float can integrate)");
-  if (total.clipped > 0)
-    warn("'" + output + "': " + std::to_string(total.clipped) +
-         " pixels have values outside 0..1 by more than half a code value, clipped by the "
-         "integer format");
-  rep.clipped_pixels = total.clipped;
   rep.seconds = seconds_since(t_start);
   if (before_commit) before_commit(rep);
   file.commit();

@@ -13,6 +13,7 @@
 #include "pipeline/image_conversion.h"
 #include "pipeline/image_report.h"
 #include "pipeline/job_log.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/table_pool.h"
 #include "pipeline/thread_share.h"
 #include "settings/settings.h"
@@ -26,20 +27,21 @@ struct ImageJobOptions {
   std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
 };
 
-/// Converts `input` to the spectral OpenEXR `output`. Never overwrites the input (under any
+/// Converts `input` to the spectral OpenEXR `output`, as `plan` (plan_to_spectral) says, or as
+/// it decided this input already (a batch's planned_input). Never overwrites the input (under any
 /// alias) nor another output of the run; nothing is left at `output` unless it completed. The
 /// header records the settings as resolved for the file, the conversion's warnings and counts;
 /// `before_commit` runs with the finished report before the file is moved into place. Throws
 /// Error naming the file and the reason. Cost: O(pixels x bands), plus node solves on first use.
-ImageReport run_image_job(const std::string& input, const std::string& output,
-                          const Settings& settings, const ProgressFn& progress, const LogFn& log,
+ImageReport run_image_job(const JobPlan& plan, const std::string& input, const std::string& output,
+                          const ProgressFn& progress, const LogFn& log,
                           const ImageJobOptions& options = {});
 
-/// Integrates the spectral OpenEXR `input` (any writer's) to RGB(A) in settings.colorspace
-/// (resolved by the caller), written to the OpenEXR `output` like run_image_job. Throws Error.
+/// Integrates the spectral OpenEXR `input` (any writer's) to RGB(A) as `plan` (plan_to_rgb)
+/// says, written to `output` (its format's) like run_image_job. Throws Error.
 /// Cost: O(pixels x bands).
-ToRgbReport run_to_rgb_job(const std::string& input, const std::string& output,
-                           const Settings& settings, const ProgressFn& progress, const LogFn& log,
+ToRgbReport run_to_rgb_job(const JobPlan& plan, const std::string& input, const std::string& output,
+                           const ProgressFn& progress, const LogFn& log,
                            const std::function<void(const ToRgbReport&)>& before_commit = {});
 
 }  // namespace spectralize

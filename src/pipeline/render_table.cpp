@@ -9,7 +9,7 @@
 #include "classify/input_interpretation.h"
 #include "core/table_file.h"
 #include "imagefile/safe_output.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 
@@ -66,18 +66,14 @@ bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const M
   return true;
 }
 
-Settings checked_table_settings(Settings s, const std::string& output, const OptionNames& names) {
+JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".spztab")
     throw Error(names.output + " '" + clip(output) + "': a table file is named NAME.spztab");
-  const ColourSpaces spaces =
-      s.config.empty()
-          ? ColourSpaces::load()
-          : with_context(names("config"), [&] { return ColourSpaces::load(s.config); });
-  s.colorspace = s.colorspace.empty() ? default_colour_space(spaces, true).first
-                                      : with_context(names("colorspace"),
-                                                     [&] { return spaces.resolve(s.colorspace); });
+  JobPlan plan = plan_colours(std::move(settings), ColourSubject::table, names);
+  const Settings& s = plan.settings;
+  const ColourSpaces& spaces = plan.colour_spaces();
   const std::optional<Mat3> m = primaries_matrix(spaces, s.colorspace);
   if (!m)
     throw Error(names("colorspace") + " " + quote(s.colorspace) +
@@ -109,14 +105,13 @@ Settings checked_table_settings(Settings s, const std::string& output, const Opt
                      ? std::string(": give a linear space of this config")
                      : ": use " + quote(linear) + ", the linear space with its primaries"));
   }
-  if (s.mode != ModeChoice::emission) s.mode = ModeChoice::reflectance;  // auto: textures
-  s.spectral.mode = s.mode == ModeChoice::emission ? Mode::emission : Mode::reflectance;
-  return s;
+  return plan;
 }
 
-RenderTable make_render_table(const Settings& s, const LogFn& log) {
+RenderTable make_render_table(const JobPlan& plan, const LogFn& log) {
   const auto start = std::chrono::steady_clock::now();
-  const ColourSpaces spaces = ColourSpaces::load(s.config);
+  const Settings& s = plan.settings;
+  const ColourSpaces& spaces = plan.colour_spaces();
   const std::optional<Mat3> m = primaries_matrix(spaces, s.colorspace);
   if (!m) throw Error("colour space " + quote(s.colorspace) + " has no RGB -> XYZ matrix");
   const Spectralizer sp(s.spectral);

@@ -13,7 +13,7 @@
 #include "core/mat3.h"
 #include "core/spectral_table.h"
 #include "pipeline/job_log.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "settings/settings.h"
 
 namespace spectralize {
@@ -36,10 +36,9 @@ bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const M
 /// Table settings: an output named .spztab, the config loads, the colour space (default: the
 /// config's scene_linear role) exists and is linear RGB (an encoded or log space is refused,
 /// naming the linear space with its primaries when the config has one: renderers decode and
-/// filter textures in linear before the lookup), mode auto is reflectance. Returned resolved.
-/// Throws Error naming the option. Cost: the config's parse, OCIO processors.
-Settings checked_table_settings(Settings settings, const std::string& output,
-                                const OptionNames& names);
+/// filter textures in linear before the lookup), mode auto is reflectance (plan_colours of a
+/// table). Throws Error naming the option. Cost: the config's parse, OCIO processors.
+JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names);
 
 /// A built table file.
 struct RenderTable {
@@ -51,10 +50,10 @@ struct RenderTable {
   double seconds = 0;              // to build it
 };
 
-/// Builds the table for checked settings, on `settings.threads` cores (0: all). The bytes
+/// Builds the table `plan` (plan_table) says, on `settings.threads` cores (0: all). The bytes
 /// depend only on the settings. Cost: every node's solve (~40 us each at 5 nm; ~20 000 nodes
 /// per reflectance table), a few seconds.
-RenderTable make_render_table(const Settings& settings, const LogFn& log);
+RenderTable make_render_table(const JobPlan& plan, const LogFn& log);
 
 /// Writes the table to `path` atomically (docs/DESIGN.md §9). Throws Error naming the file.
 /// Cost: O(size).

@@ -13,32 +13,32 @@
 #include <vector>
 
 #include "classify/input_interpretation.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/render_table.h"
 #include "text/strings.h"
 
 namespace spectralize::tool {
 
 ColourInputs colour_inputs(const Options& opt) {
-  SpectralizerSettings settings = opt.settings.spectral;
-  // A single colour has no data type to decide by: "auto" means light, like float data.
-  settings.mode = opt.settings.mode == ModeChoice::reflectance ? Mode::reflectance : Mode::emission;
   std::vector<Rgb> colours;
   for (const auto& text : opt.colors) colours.push_back(parse_rgb(text));
-  ColourSpaces spaces = load_config(opt);
+  const JobPlan plan = usage_checked("", [&] {
+    return plan_colours(opt.settings, ColourSubject::colours, OptionNames{"--", "-o"});
+  });
+  const ColourSpaces& spaces = plan.colour_spaces();
+  const std::string& space = plan.settings.colorspace;  // resolved
+  // As for an image (input_interpretation.cpp): a data space's values are not a colour.
+  if (spaces.is_data(space))
+    fmt::print(stderr,
+               "spectralize WARNING: colour space '{}' is marked as data (not colour) in the "
+               "OCIO config; the values are taken as CIE XYZ\n",
+               space);
+  // Named as given (an alias stays an alias in messages).
   ColourTransform to_xyz = usage_checked("--colorspace", [&] {
-    const std::string space = opt.settings.colorspace.empty()
-                                  ? default_colour_space(spaces, true).first
-                                  : opt.settings.colorspace;
-    // As for an image (input_interpretation.cpp): a data space's values are not a colour.
-    if (spaces.is_data(spaces.resolve(space)))
-      fmt::print(stderr,
-                 "spectralize WARNING: colour space '{}' is marked as data (not colour) in the "
-                 "OCIO config; the values are taken as CIE XYZ\n",
-                 spaces.resolve(space));
-    return spaces.to_xyz(space);
+    return spaces.to_xyz(opt.settings.colorspace.empty() ? space : opt.settings.colorspace);
   });
   const Mat3 frame = table_frame(spaces, to_xyz.source());
-  return {std::move(settings), std::move(colours), std::move(spaces), std::move(to_xyz), frame};
+  return {plan.settings.spectral, std::move(colours), plan.spaces, std::move(to_xyz), frame};
 }
 
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTable* table,

@@ -2,6 +2,7 @@
 // What the commands share: turning core and io errors into usage errors that name the flag,
 // the --color values, the console log and progress, and the checked report and stdout output.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,7 @@ Rgb parse_rgb(const std::string& text);
 struct ColourInputs {
   SpectralizerSettings settings;
   std::vector<Rgb> colours;
-  ColourSpaces spaces;
+  std::shared_ptr<const ColourSpaces> spaces;
   ColourTransform to_xyz;
   Mat3 frame;
 };

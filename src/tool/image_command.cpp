@@ -11,7 +11,7 @@
 #include "colour/colour_space.h"
 #include "imagefile/safe_output.h"
 #include "pipeline/image_job.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
 #include "tool/flags.h"
 #include "tool/options.h"
@@ -56,15 +56,16 @@ const OptionNames kFlagNames{"--", "-o"};
 
 int run_to_rgb(const Options& opt) {
   if (opt.output.empty()) throw UsageError{"-o OUTPUT is required"};
-  const Settings s = usage_checked("", [&] {
-    return checked_to_rgb_settings(opt.settings, opt.output,
-                                   opt.given.count("--format") || opt.given.count("-d"),
-                                   opt.given.count("--compression") > 0, kFlagNames);
+  const JobPlan plan = usage_checked("", [&] {
+    return plan_to_rgb(opt.settings, opt.output,
+                       opt.given.count("--format") || opt.given.count("-d"),
+                       opt.given.count("--compression") > 0, kFlagNames);
   });
+  const Settings& s = plan.settings;
   auto report = open_report(opt, opt.to_rgb);
   const LogFn log = console_log(opt.verbosity);
   const ToRgbReport r =
-      run_to_rgb_job(opt.to_rgb, opt.output, s, console_progress(opt.verbosity, opt.to_rgb), log,
+      run_to_rgb_job(plan, opt.to_rgb, opt.output, console_progress(opt.verbosity, opt.to_rgb), log,
                      [&](const ToRgbReport& done) {
                        if (report) write_report(report.get(), report_json(done));
                      });
@@ -86,8 +87,8 @@ int run_image(const Options& opt) {
                          : fmt::format("one input image at a time, got {}", opt.inputs.size())};
   if (opt.output.empty()) throw UsageError{"-o OUTPUT.exr is required"};
   const std::string& input = opt.inputs[0];
-  const Settings s = usage_checked(
-      "", [&] { return checked_image_settings(opt.settings, opt.output, kFlagNames); });
+  const JobPlan plan =
+      usage_checked("", [&] { return plan_to_spectral(opt.settings, opt.output, kFlagNames); });
   auto report = open_report(opt, input);
   const LogFn log = console_log(opt.verbosity);
   ImageJobOptions options;
@@ -96,7 +97,7 @@ int run_image(const Options& opt) {
     if (report) write_report(report.get(), report_json(done));
   };
   const ImageReport r =
-      run_image_job(input, opt.output, s, console_progress(opt.verbosity, input), log, options);
+      run_image_job(plan, input, opt.output, console_progress(opt.verbosity, input), log, options);
   if (report) report->commit();
   const PixelCounts& c = r.counts;
   if (opt.verbosity > 0) {

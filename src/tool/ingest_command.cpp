@@ -9,7 +9,7 @@
 
 #include "ingest/ingest.h"
 #include "ingest/shard.h"
-#include "pipeline/job_settings.h"
+#include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 #include "tool/flags.h"
@@ -57,7 +57,7 @@ int run_ingest_command(const Options& opt) {
     throw UsageError{"ingest: give the files, folders or patterns to ingest (or --inputs-from)"};
   // The config and colour space are command-line values: checked before any work.
   request.settings = usage_checked("", [&] {
-    return checked_ingest_settings(request.settings, OptionNames{"--", "-o"});
+    return plan_to_spectral(request.settings, "", OptionNames{"--", "-o"}).settings;
   });
   const ShardSpec shard = usage_checked("", [&] {
     if (!opt.shard.empty()) return with_context("--shard", [&] { return parse_shard(opt.shard); });

@@ -165,7 +165,7 @@ int run_plot_color(const Options& opt) {
                                  opt.colors.size())};
   const ColourInputs in = colour_inputs(opt);
   const auto& [settings, colours, spaces, to_xyz, frame] = in;
-  const PlotSpaces cs = plot_spaces(spaces);
+  const PlotSpaces cs = plot_spaces(*spaces);
   const SwatchColours swatch(cs);
 
   Spectralizer spectralizer(settings);

@@ -19,9 +19,9 @@ int run_table(const Options& opt) {
   if (opt.output.empty()) throw UsageError{"table: -o NAME.spztab is required"};
   if (!opt.inputs.empty())
     throw UsageError{"table takes no input files (got '" + clip(opt.inputs[0]) + "')"};
-  Settings s;
+  JobPlan plan;
   try {
-    s = checked_table_settings(opt.settings, opt.output, OptionNames{"--", "-o"});
+    plan = plan_table(opt.settings, opt.output, OptionNames{"--", "-o"});
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {
@@ -29,7 +29,8 @@ int run_table(const Options& opt) {
   }
   // The destination is checked (and its temporary made) before the work.
   AtomicOutput out(opt.output, {});
-  const RenderTable table = make_render_table(s, console_log(opt.verbosity));
+  const Settings& s = plan.settings;
+  const RenderTable table = make_render_table(plan, console_log(opt.verbosity));
   out.write(table.bytes);
   out.commit();
   if (opt.verbosity > 0)
