@@ -226,8 +226,8 @@ const float* ExactTable::compute_node(std::size_t index) {
   } else {
     const Xyz t = node_target(index);
     SpectrumResult r = sp_.spectralize_target(t);
-    const bool exact =
-        r.status == Status::ok && r.relative_error <= 1e-9 && relative_error(r.target, t) <= 1e-12;
+    const bool exact = r.status == Outcome::exact && r.relative_error <= 1e-9 &&
+                       relative_error(r.target, t) <= 1e-12;
     if (!exact) {
       r.values = constructed_spectrum(u);
       stats_.constructed++;

@@ -17,20 +17,6 @@ std::uint64_t fnv1a(const void* data, std::size_t size) {
   return h;
 }
 
-PixelKind kind_of(const SpectrumResult& r) {
-  switch (r.status) {
-    case Status::ok:
-      return PixelKind::in_gamut;
-    case Status::black:
-      return PixelKind::black;
-    case Status::invalid:
-      return PixelKind::invalid;
-    case Status::out_of_gamut:
-      return r.outside_locus ? PixelKind::outside_locus : PixelKind::outside_solid;
-  }
-  return PixelKind::invalid;
-}
-
 }  // namespace
 
 std::size_t SpectralTable::TargetHash::operator()(const TargetKey& k) const {
@@ -64,7 +50,7 @@ PixelResult SpectralTable::direct(const Xyz& target, float* out) {
   SpectrumResult r = sp_.spectralize_target(target);
   Solved solved;
   solved.values.assign(r.values.begin(), r.values.end());
-  solved.result.kind = kind_of(r);
+  solved.result.kind = r.status;
   solved.result.fallback = true;
   solved.result.target = r.target;
   std::copy(solved.values.begin(), solved.values.end(), out);
@@ -76,22 +62,22 @@ PixelResult SpectralTable::direct(const Xyz& target, float* out) {
 }
 
 inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& res) {
-  res.kind = PixelKind::in_gamut;
+  res.kind = Outcome::exact;
   res.fallback = false;
   if (!xyz_d65.finite()) {
     std::fill(out, out + bands_, 0.0f);
-    res.kind = PixelKind::invalid;
+    res.kind = Outcome::invalid;
     return;
   }
   const Xyz t = sp_.target_of(xyz_d65);
   if (t == Xyz{}) {
     std::fill(out, out + bands_, 0.0f);
-    res.kind = PixelKind::black;
+    res.kind = Outcome::black;
     return;
   }
   if (t.Y < 0) {
     std::fill(out, out + bands_, 0.0f);
-    res.kind = PixelKind::negative;
+    res.kind = Outcome::negative;
     return;
   }
   if (method_ == Method::exact) return void(res = direct(t, out));
@@ -111,9 +97,9 @@ inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& re
   }
   // Outside the gamut (or within its rounding): mapped as every model maps (docs/DESIGN.md
   // §5), then the blend of the mapped colour's cell.
-  bool moved = false, outside_locus = false;
-  const Xyz mapped = sp_.mapped_target(t, moved, &outside_locus);
-  if (moved) res.kind = outside_locus ? PixelKind::outside_locus : PixelKind::outside_solid;
+  Outcome mapping = Outcome::exact;
+  const Xyz mapped = sp_.mapped_target(t, mapping);
+  res.kind = mapping;
   res.target = mapped;
   if (!(mapped.Y > 0)) {  // a colour of zero luminance maps to black
     std::fill(out, out + bands_, 0.0f);
@@ -122,9 +108,9 @@ inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& re
   }
   if (exact_.locate(mapped, blend, /*nearest=*/true)) return exact_.blend_into(blend, out);
   // Not reached for a gamut-mapped colour (it is inside by a margin); solved exactly if so.
-  const PixelKind kind = res.kind;
+  const Outcome kind = res.kind;
   res = direct(mapped, out);
-  if (kind != PixelKind::in_gamut) res.kind = kind;
+  if (kind != Outcome::exact) res.kind = kind;
 }
 
 // The blend loops vectorise well: compiled for AVX2 (with FMA) and baseline x86-64, picked at

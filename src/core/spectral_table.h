@@ -36,21 +36,11 @@ inline constexpr Mat3 kRec709Frame = {
     0.21263900587151036, 0.71516867876775593, 0.07219231536073372,
     0.01933081871559185, 0.11919477979462599, 0.95053215224966058};
 
-/// What happened to one pixel.
-enum class PixelKind : std::uint8_t {
-  in_gamut,       // exact spectrum of the pixel's colour
-  black,          // zero colour: zero spectrum
-  invalid,        // NaN or infinite: zero spectrum
-  negative,       // negative luminance (Y < 0): no light or surface has it; zero spectrum
-  outside_locus,  // outside the spectral locus: mapped (docs/DESIGN.md §5), then exact
-  outside_solid,  // reflectance outside the reflectance solid: mapped, then exact
-};
-
 /// How the spectrum of one pixel was made.
 struct PixelResult {
-  PixelKind kind = PixelKind::in_gamut;
-  bool fallback = false;  // a direct exact solve (--method exact)
-  Xyz target;             // the colour the spectrum reproduces (mode's terms, gamut mapped)
+  Outcome kind = Outcome::exact;  // what became of the pixel's colour
+  bool fallback = false;          // a direct exact solve (--method exact)
+  Xyz target;                     // the colour the spectrum reproduces (mode's terms, gamut mapped)
 };
 
 /// Counters of a table's work, for reports. Plain numbers, summed over threads.

@@ -85,15 +85,17 @@ std::string parse_emission_basis(std::string_view text) {
   }
 }
 
-std::string_view to_string(Status status) {
-  switch (status) {
-    case Status::ok:
+std::string_view to_string(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::exact:
       return "ok";
-    case Status::black:
+    case Outcome::black:
       return "black";
-    case Status::out_of_gamut:
+    case Outcome::negative:
+    case Outcome::outside_locus:
+    case Outcome::outside_solid:
       return "out_of_gamut";
-    case Status::invalid:
+    case Outcome::invalid:
       return "invalid";
   }
   return "unknown";
@@ -133,7 +135,7 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
 Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const {
   const bool reflectance = settings_.mode == Mode::reflectance;
   if (gamut_.contains(requested)) return requested;
-  r.status = Status::out_of_gamut;
+  r.status = Outcome::outside_solid;  // unless the first step below finds it outside the locus
   Xyz t = requested;
   std::string what;
   // Moves t toward `anchor` (inside) until it is inside `gamut`, a hair short of the boundary.
@@ -152,7 +154,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   //    white is D65 (reflectance: the reference white), or if a narrow grid cannot make D65,
   //    the colour of the flat spectrum, which every grid can.
   if (!locus_.contains(t)) {
-    r.outside_locus = true;
+    r.status = Outcome::outside_locus;
     const Xyz white = mapping_white();
     move_toward(locus_, (t.Y / white.Y) * white);
     what = "outside the spectral locus: desaturated toward white at constant luminance";
@@ -180,7 +182,7 @@ Xyz Spectralizer::map_into_gamut(const Xyz& requested, SpectrumResult& r) const 
   // A move below float precision (e.g. white through OCIO's float maths landing a hair
   // outside the solid's white vertex) is rounding, not an out-of-gamut colour.
   if (relative_error(t, requested) <= kSnapTolerance) {
-    r.status = Status::ok;
+    r.status = Outcome::exact;
     r.message.clear();
   }
   return t;
@@ -191,11 +193,10 @@ Xyz Spectralizer::mapping_white() const {
   return locus_.contains(white) ? white : basis_white_;
 }
 
-Xyz Spectralizer::mapped_target(const Xyz& target, bool& moved, bool* outside_locus) const {
+Xyz Spectralizer::mapped_target(const Xyz& target, Outcome& outcome) const {
   SpectrumResult r;
   const Xyz t = map_into_gamut(target, r);
-  moved = r.status == Status::out_of_gamut;
-  if (outside_locus) *outside_locus = r.outside_locus;
+  outcome = r.status;
   return t;
 }
 
@@ -208,7 +209,7 @@ SpectrumResult Spectralizer::spectralize(const Xyz& xyz_d65) const {
     SpectrumResult r;
     r.values.assign(settings_.grid.size(), 0.0);
     r.input = xyz_d65;
-    r.status = Status::invalid;
+    r.status = Outcome::invalid;
     r.message = "colour has NaN or infinite components";
     return r;
   }
@@ -222,17 +223,17 @@ SpectrumResult Spectralizer::classify(const Xyz& xyz_d65) const {
   r.values.assign(settings_.grid.size(), 0.0);
   r.input = xyz_d65;
   if (!xyz_d65.finite()) {
-    r.status = Status::invalid;
+    r.status = Outcome::invalid;
     r.message = "colour has NaN or infinite components";
     return r;
   }
   const Xyz t = target_of(xyz_d65);
   if (t == Xyz{}) {
-    r.status = Status::black;
+    r.status = Outcome::black;
     return r;
   }
   if (t.Y < 0) {
-    r.status = Status::invalid;
+    r.status = Outcome::negative;
     r.message = "colour has negative luminance (Y < 0)";
     return r;
   }
@@ -247,17 +248,17 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
   r.values.assign(n, 0.0);
   r.input = target;
   if (!target.finite()) {
-    r.status = Status::invalid;
+    r.status = Outcome::invalid;
     r.message = "colour has NaN or infinite components";
     return r;
   }
   Xyz t = target;
   if (t == Xyz{}) {
-    r.status = Status::black;
+    r.status = Outcome::black;
     return r;
   }
   if (t.Y < 0) {
-    r.status = Status::invalid;
+    r.status = Outcome::negative;
     r.message = "colour has negative luminance (Y < 0)";
     r.target = Xyz{};
     return r;
@@ -281,7 +282,7 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
     r.target = white_scale * basis_white_;
     r.xyz = weights_.integrate(r.values);
     r.relative_error = relative_error(r.xyz, r.target);
-    r.status = Status::ok;
+    r.status = Outcome::exact;
     r.message.clear();
     return r;
   }

@@ -131,7 +131,7 @@ void plot_spectrum(const Stage& s, const std::string& file, const std::string& t
       SpectralizerSettings other = settings;
       other.model = model;
       const SpectrumResult r = Spectralizer(other).spectralize(input);
-      if (r.status == Status::ok)
+      if (r.status == Outcome::exact)
         plot.curves.push_back({std::string(model) + " model",
                                nm,
                                r.values,
@@ -174,7 +174,7 @@ std::vector<SphereFigure> make_figures(const std::string& outdir, std::ostream& 
   surface_settings.mode = Mode::reflectance;
   const Spectralizer surface_sp(surface_settings);
   const SpectrumResult surface = surface_sp.spectralize(mul(m, kPaperSurface));
-  if (light.status != Status::ok || surface.status != Status::ok)
+  if (light.status != Outcome::exact || surface.status != Outcome::exact)
     throw Error("the paper's colours did not spectralize exactly: " + light.message + " " +
                 surface.message);
 

@@ -249,9 +249,7 @@ class TableReconstruction final : public Reconstruction {
     std::vector<float> values(sp_.settings().grid.size());
     PixelResult pixel;
     table_.spectra(&xyz_d65, 1, values.data(), &pixel);
-    const Status status = pixel.kind == PixelKind::in_gamut ? Status::ok
-                          : pixel.kind == PixelKind::black  ? Status::black
-                                                            : Status::out_of_gamut;
+    const Outcome status = pixel.kind;
     return {std::vector<double>(values.begin(), values.end()), std::string(to_string(status))};
   }
 

@@ -74,24 +74,24 @@ void SpectralConverter::load_colours(const float* in, std::size_t b, std::size_t
 }
 
 // Counts a pixel by what the table did with it.
-static void count_kind(PixelKind kind, PixelCounts& c) {
+static void count_kind(Outcome kind, PixelCounts& c) {
   switch (kind) {
-    case PixelKind::invalid:
+    case Outcome::invalid:
       ++c.invalid;
       break;
-    case PixelKind::negative:
+    case Outcome::negative:
       ++c.negative;
       break;
-    case PixelKind::outside_locus:
+    case Outcome::outside_locus:
       ++c.outside_locus;
       break;
-    case PixelKind::outside_solid:
+    case Outcome::outside_solid:
       ++c.outside_solid;
       break;
-    case PixelKind::black:
+    case Outcome::black:
       ++c.black;
       break;
-    case PixelKind::in_gamut:
+    case Outcome::exact:
       break;
   }
 }

@@ -54,13 +54,13 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTabl
     // Printed as the float it is (shortest text that reads back as that float).
     for (std::size_t i = 0; i < v.size(); ++i)
       r.values[i] = std::strtod(fmt::format("{}", v[i]).c_str(), nullptr);
-    if (r.status == Status::ok || r.status == Status::out_of_gamut) r.target = pixel.target;
+    if (r.status == Outcome::exact || out_of_gamut(r.status)) r.target = pixel.target;
     r.xyz = spectralizer.weights().integrate(r.values);
     r.relative_error = r.target.max_abs() > 0 ? relative_error(r.xyz, r.target) : 0.0;
   } else {
     r = spectralizer.spectralize(xyz);
   }
-  if (r.status == Status::out_of_gamut) {
+  if (r.status == Outcome::outside_locus || r.status == Outcome::outside_solid) {
     std::string hint;
     // A reflectance far above white is usually 0..255 or 0..65535 data given as 0..1.
     if (spectralizer.settings().mode == Mode::reflectance &&
@@ -72,7 +72,7 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTabl
                "spectralize WARNING: colour {} ({}) is out of gamut{}: {} (moved {:.6f} in xy)\n",
                c.text, to_xyz.source(), hint, r.message, r.gamut_distance);
   }
-  if (r.status == Status::invalid) {
+  if (r.status == Outcome::invalid || r.status == Outcome::negative) {
     fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
                r.message);
     status = kExitFailure;

@@ -188,7 +188,7 @@ int run_plot_color(const Options& opt) {
     const Rgb& c = colours[i];
     const SpectrumResult r = spectralize_colour(spectralizer, table.get(), to_xyz, c, status);
     PlotCurve curve;
-    curve.label = c.text + (r.status == Status::ok || r.status == Status::black
+    curve.label = c.text + (r.status == Outcome::exact || r.status == Outcome::black
                                 ? ""
                                 : " (" + std::string(to_string(r.status)) + ")");
     for (std::size_t k = 0; k < settings.grid.size(); ++k)

@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
               std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0)
                   .count());
           ++n;
-          mapped += res.status == Status::out_of_gamut;
+          mapped += out_of_gamut(res.status);
           fallback += res.fallback;
           net += res.detail("safety_net") != 0;
           worst = std::max(worst, res.relative_error);

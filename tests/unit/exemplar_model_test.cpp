@@ -196,7 +196,7 @@ TEST(ExemplarModel, SpectraAreTheProjectedBlendOfTheDefinition) {
           from_lab({e.lab.L + s * d[0], e.lab.a + s * d[1], e.lab.b + s * d[2]}, lib.white);
       if (!exemplar.in_gamut(t) || !(t.Y > 0)) continue;
       const SpectrumResult r = exemplar.spectralize_target(t);
-      ASSERT_EQ(r.status, Status::ok);
+      ASSERT_EQ(r.status, Outcome::exact);
       const SpectrumResult n = natural.spectralize_target(t);
       for (double v : r.values) {
         ASSERT_GE(v, 0.0);
@@ -248,7 +248,7 @@ TEST(ExemplarModel, AtAMeasuredColourItIsCloseToTheMeasurement) {
   for (const Exemplar& e : library().exemplars) {
     const SpectrumResult r = exemplar.spectralize_target(e.colour);
     const SpectrumResult n = natural.spectralize_target(e.colour);
-    if (r.status != Status::ok) continue;
+    if (r.status != Outcome::exact) continue;
     ++total;
     auto rms = [&](const std::vector<double>& x) {
       double s = 0;

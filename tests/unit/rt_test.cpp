@@ -372,8 +372,9 @@ TEST(RtMapping, OutsideColoursAreMappedAsTheCoreMapsThem) {
                     m[6] * rgb[0] + m[7] * rgb[1] + m[8] * rgb[2]};
       const Xyz t = sp.target_of(xyz);
       if (!(t.Y > 0)) continue;
-      bool moved = false;
-      const Xyz core = sp.mapped_target(t, moved);
+      Outcome mapping = Outcome::exact;
+      const Xyz core = sp.mapped_target(t, mapping);
+      const bool moved = mapping != Outcome::exact;
       double out[3];
       const int status = view.map_into_gamut(rgb, out);
       EXPECT_EQ(status == SPZ_MAPPED, moved) << rgb[0] << "," << rgb[1] << "," << rgb[2];

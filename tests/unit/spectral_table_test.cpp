@@ -121,7 +121,7 @@ TEST(SpectralTable, WhiteIsOneAndBlackIsZero) {
     EXPECT_NEAR(got[i], 1.0, 2e-6) << i;
     EXPECT_EQ(got[n + i], 0.0f) << i;
   }
-  EXPECT_EQ(res[1].kind, PixelKind::black);
+  EXPECT_EQ(res[1].kind, Outcome::black);
 }
 
 // Stored nodes are adopted only when they are the spectra of their own colours.
@@ -164,9 +164,9 @@ TEST(SpectralTable, OutsideColoursAreMappedByTheTableWithoutSolves) {
     std::vector<float> out(2 * sp.settings().grid.size());
     PixelResult res[2];
     table.spectra(colours, 2, out.data(), res);
-    EXPECT_EQ(res[0].kind, PixelKind::outside_locus);
+    EXPECT_EQ(res[0].kind, Outcome::outside_locus);
     if (mode == Mode::reflectance) {
-      EXPECT_EQ(res[1].kind, PixelKind::outside_solid);
+      EXPECT_EQ(res[1].kind, Outcome::outside_solid);
     }
     for (int c = 0; c < 2; ++c) {
       const SpectrumResult direct = sp.spectralize(colours[c]);

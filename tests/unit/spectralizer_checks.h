@@ -107,12 +107,12 @@ inline void check_result(const Spectralizer& sp, const Reference& ref, const Xyz
   const double err = rel_err(got, r.target);
   tally.worst_error = std::max(tally.worst_error, err);
   EXPECT_LE(err, 1e-5);  // exact to its target
-  if (r.status == Status::ok) {
+  if (r.status == Outcome::exact) {
     ++tally.ok;
     // ok means the input itself was reproduced: to 1e-6 relative, the tolerance below which
     // the Spectralizer treats a gamut mapping as rounding of float input (kSnapTolerance).
     EXPECT_LE(rel_err(r.target, want), 1e-6);
-  } else if (r.status == Status::out_of_gamut) {
+  } else if (r.status == Outcome::outside_locus || r.status == Outcome::outside_solid) {
     ++tally.out;
     EXPECT_GT(r.gamut_distance, 0.0);
     EXPECT_TRUE(sp.in_gamut(r.target));

@@ -5,6 +5,7 @@
 // around the chosen spectrum model (docs/DESIGN.md §6).
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -35,15 +36,28 @@ inline constexpr double kDefaultCurvatureNm = 50;
 /// naming the valid values. Cost: O(table) for an illuminant.
 std::string parse_emission_basis(std::string_view text);
 
-enum class Status {
-  ok,            // exact spectrum of the input colour
-  black,         // zero input: zero spectrum
-  out_of_gamut,  // outside the spectral locus or the reflectance solid: mapped, then exact
-  invalid,       // NaN, Inf or negative luminance: zero spectrum
+/// What became of a colour: the one outcome of a --color value, an array's colour and a pixel
+/// alike (docs/DESIGN.md §5), counted per kind for images and arrays.
+enum class Outcome : std::uint8_t {
+  exact,          // exact spectrum of the colour
+  black,          // zero colour: zero spectrum
+  invalid,        // NaN or infinite: no colour at all; zero spectrum
+  negative,       // negative luminance (Y < 0): no light or surface has it; out of gamut,
+                  // mapped to black (zero spectrum)
+  outside_locus,  // outside the spectral locus: mapped (docs/DESIGN.md §5), then exact
+  outside_solid,  // reflectance outside the reflectance solid: mapped, then exact
 };
 
-/// "ok" / "black" / "out_of_gamut" / "invalid". Cost: O(1).
-std::string_view to_string(Status status);
+/// True for the outcomes of a colour mapped into the gamut first (negative luminance, outside
+/// the locus or the solid): out of gamut, a warning, not a failure. Cost: O(1).
+constexpr bool out_of_gamut(Outcome outcome) {
+  return outcome == Outcome::negative || outcome == Outcome::outside_locus ||
+         outcome == Outcome::outside_solid;
+}
+
+/// The status reports give: "ok" (exact), "black", "out_of_gamut" (any mapped outcome) or
+/// "invalid". Cost: O(1).
+std::string_view to_string(Outcome outcome);
 
 /// The white point of every space in the shipped OCIO config: D65, Y = 1.
 inline constexpr Xyz kWhiteD65{0.3127 / 0.3290, 1.0, 0.3583 / 0.3290};
@@ -87,7 +101,7 @@ struct SpectralizerSettings {
 
 struct SpectrumResult {
   std::vector<double> values;  // one per grid sample
-  Status status = Status::ok;
+  Outcome status = Outcome::exact;
   Xyz input;                         // the XYZ given (D65-adapted, input units)
   Xyz target;                        // what the spectrum reproduces: input (emission) or input
                                      // white-balanced to the reference illuminant (reflectance),
@@ -97,8 +111,6 @@ struct SpectrumResult {
   bool fallback = false;             // the model's stated fallback produced (part of) the spectrum
   std::vector<ModelDetail> details;  // the model's own diagnostics (e.g. paper: L and K)
   double gamut_distance = 0;         // chromaticity (xy) distance the mapping moved the colour
-  bool outside_locus = false;        // out_of_gamut because outside the spectral locus (else, for
-                                     // reflectances, outside the reflectance solid)
   std::string message;               // why the status is not ok, for people
 
   /// The model's detail `name` (e.g. "admissible"), 0 when the model does not report it.
@@ -148,10 +160,10 @@ class Spectralizer {
   /// (reflectance: the reference white; emission: D65, or the basis' white when a narrow grid
   /// cannot make D65). Cost: O(facets).
   Xyz mapping_white() const;
-  /// The target a colour is mapped to (docs/DESIGN.md §5), whether it was moved (more than
-  /// rounding) and whether it was outside the spectral locus; a target inside is returned as
-  /// is. Never throws. Cost: O(facets).
-  Xyz mapped_target(const Xyz& target, bool& moved, bool* outside_locus = nullptr) const;
+  /// The target a colour is mapped to (docs/DESIGN.md §5), with `outcome` exact (not moved by
+  /// more than rounding: returned as is), outside_locus or outside_solid. Never throws.
+  /// Cost: O(facets).
+  Xyz mapped_target(const Xyz& target, Outcome& outcome) const;
 
   const SpectralizerSettings& settings() const { return settings_; }
   const SampleWeights& weights() const { return weights_; }
