@@ -234,7 +234,7 @@ SpectrumResult Spectralizer::classify(const Xyz& xyz_d65) const {
   }
   if (t.Y < 0) {
     r.status = Outcome::negative;
-    r.message = "colour has negative luminance (Y < 0)";
+    r.message = "colour has negative luminance (Y < 0): mapped to black";
     return r;
   }
   r.target = map_into_gamut(t, r);
@@ -259,7 +259,7 @@ SpectrumResult Spectralizer::spectralize_target(const Xyz& target) const {
   }
   if (t.Y < 0) {
     r.status = Outcome::negative;
-    r.message = "colour has negative luminance (Y < 0)";
+    r.message = "colour has negative luminance (Y < 0): mapped to black";
     r.target = Xyz{};
     return r;
   }

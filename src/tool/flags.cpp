@@ -60,7 +60,13 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTabl
   } else {
     r = spectralizer.spectralize(xyz);
   }
-  if (r.status == Outcome::outside_locus || r.status == Outcome::outside_solid) {
+  if (r.status == Outcome::negative) {
+    // As for a pixel: out of gamut, mapped to black with a warning, not a failure.
+    fmt::print(stderr,
+               "spectralize WARNING: colour {} ({}) is out of gamut: it has negative luminance "
+               "(Y < 0), which no light or surface has; mapped to black (zero spectrum)\n",
+               c.text, to_xyz.source());
+  } else if (out_of_gamut(r.status)) {
     std::string hint;
     // A reflectance far above white is usually 0..255 or 0..65535 data given as 0..1.
     if (spectralizer.settings().mode == Mode::reflectance &&
@@ -72,7 +78,7 @@ SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTabl
                "spectralize WARNING: colour {} ({}) is out of gamut{}: {} (moved {:.6f} in xy)\n",
                c.text, to_xyz.source(), hint, r.message, r.gamut_distance);
   }
-  if (r.status == Outcome::invalid || r.status == Outcome::negative) {
+  if (r.status == Outcome::invalid) {
     fmt::print(stderr, "spectralize ERROR: colour {} ({}): {}\n", c.text, to_xyz.source(),
                r.message);
     status = kExitFailure;

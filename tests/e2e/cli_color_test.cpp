@@ -215,14 +215,24 @@ TEST(CliColor, OutOfGamutColoursAreMappedAndReported) {
   }
 }
 
-TEST(CliColor, InvalidColoursFailWithAMessage) {
-  auto r = run("--color 0.1,-0.2,0.1 --colorspace CIE-XYZ-D65");
-  EXPECT_EQ(r.exit_code, 1);
+TEST(CliColor, NegativeLuminanceIsOutOfGamutAndMappedToBlackAsInImages) {
+  // No light or surface has Y < 0: as a pixel of an image is (README "Conventions"), the colour
+  // is out of gamut, mapped to black (the zero spectrum) with a warning, and the job is done.
+  auto r = run("--color 0.1,-0.2,0.1 --colorspace CIE-XYZ-D65 --format json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("negative luminance"), std::string::npos) << r.err;
-  // AP0's blue primary has negative luminance (y = -0.077): no light or surface has that colour.
-  r = run("--color 0,0,1 --colorspace ACES2065-1");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("negative luminance"), std::string::npos) << r.err;
+  Json j = Json::parse(r.out);
+  EXPECT_EQ(j["status"], "out_of_gamut");
+  for (double x : j["values"]) EXPECT_EQ(x, 0.0);
+  // AP0's blue primary has negative luminance (y = -0.077), in either mode.
+  for (const char* mode : {"emission", "reflectance"}) {
+    r = run(std::string("--color 0,0,1 --colorspace ACES2065-1 --format json --mode ") + mode);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("negative luminance"), std::string::npos) << r.err;
+    j = Json::parse(r.out);
+    EXPECT_EQ(j["status"], "out_of_gamut") << mode;
+    for (double x : j["values"]) EXPECT_EQ(x, 0.0) << mode;
+  }
 }
 
 struct BadArgs {
