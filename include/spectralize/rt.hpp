@@ -44,15 +44,20 @@ using Spectrum = spz_spectrum;
 
 namespace detail {
 
-inline std::uint64_t fnv1a(const unsigned char* p, std::size_t n, std::uint64_t h) noexcept {
+// FNV-1a, 64 bit: its offset basis, and the hash of n bytes continuing from h (by default a
+// hash from the start).
+inline constexpr std::uint64_t kFnv1aOffsetBasis = 1469598103934665603ull;
+inline std::uint64_t fnv1a(const unsigned char* p, std::size_t n,
+                           std::uint64_t h = kFnv1aOffsetBasis) noexcept {
   for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
   return h;
 }
 
 // The checksum of a table: FNV-1a 64 of the bytes with the checksum field (24..31) as zeros.
+// The writer (src/core/table_file.cpp) computes it with this function too.
 inline std::uint64_t table_checksum(const unsigned char* data, std::size_t size) noexcept {
   const unsigned char zeros[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = kFnv1aOffsetBasis;
   h = fnv1a(data, 24, h);
   h = fnv1a(zeros, 8, h);
   return fnv1a(data + 32, size - 32, h);

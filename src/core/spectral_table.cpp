@@ -1,5 +1,7 @@
 #include "core/spectral_table.h"
 
+#include <spectralize/rt.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,20 +9,11 @@
 
 namespace spectralize {
 
-namespace {
-
-// FNV-1a, 64 bit: spreads the direct-solve cache's keys over its shards.
-std::uint64_t fnv1a(const void* data, std::size_t size) {
-  std::uint64_t h = 1469598103934665603ull;
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
-
-}  // namespace
-
+// FNV-1a, 64 bit (the table checksum's, spectralize/rt.hpp): spreads the direct-solve cache's
+// keys over its shards.
 std::size_t SpectralTable::TargetHash::operator()(const TargetKey& k) const {
-  return static_cast<std::size_t>(fnv1a(&k, sizeof k));
+  return static_cast<std::size_t>(
+      spz::detail::fnv1a(reinterpret_cast<const unsigned char*>(&k), sizeof k));
 }
 
 SpectralTable::SpectralTable(const Spectralizer& spectralizer, Method method, const Mat3& frame)

@@ -1,6 +1,7 @@
 #include "core/table_file.h"
 
 #include <spectralize/rt_format.h>
+#include <spectralize/rt.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -23,11 +24,9 @@ static_assert(sizeof(spz_file_header) == SPZ_HEADER_SIZE, "the header is 1024 by
 static_assert(std::endian::native == std::endian::little, "little-endian hosts only");
 static_assert(offsetof(spz_file_header, sections) == 432, "header layout");
 static_assert(offsetof(spz_file_header, colorspace) == 688, "header layout");
-
-std::uint64_t fnv1a(const unsigned char* p, std::size_t n, std::uint64_t h) {
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
+// The reader's checksum skips bytes 24..31: the checksum field.
+static_assert(offsetof(spz_file_header, checksum) == 24 && sizeof(spz_file_header::checksum) == 8,
+              "header layout");
 
 void copy_name(char* field, std::size_t size, const std::string& value, const char* what) {
   if (value.size() >= size)
@@ -217,9 +216,10 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
       std::memcpy(bytes.data() + h.sections[k].offset, parts[k].data,
                   parts[k].count * parts[k].element);
   std::memcpy(bytes.data(), &h, sizeof h);
-  // The checksum over everything, its own field as zeros (it is zero in h).
-  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-  h.checksum = fnv1a(p, bytes.size(), 1469598103934665603ull);
+  // The checksum over everything, its own field as zeros: the reader's own function
+  // (spectralize/rt.hpp), so that what is written is what is checked.
+  h.checksum = spz::detail::table_checksum(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                           bytes.size());
   std::memcpy(bytes.data() + offsetof(spz_file_header, checksum), &h.checksum, 8);
   return bytes;
 }

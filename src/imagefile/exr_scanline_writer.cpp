@@ -39,22 +39,31 @@ std::pair<std::string, int> split_compression(const std::string& text) {
 }
 
 // OpenEXR's output stream over an OIIO IOProxy (the checked temporary file): a short write is
-// an exception, which OpenEXR passes on.
+// an exception, which OpenEXR passes on, and is remembered: OpenEXR's OutputFile writes the
+// line offset table in its destructor, which swallows the exception.
 class ProxyStream final : public Imf::OStream {
  public:
   ProxyStream(OIIO::Filesystem::IOProxy* proxy, const std::string& file)
       : Imf::OStream(file.c_str()), proxy_(proxy) {}
   void write(const char c[], int n) override {
     if (proxy_->write(c, static_cast<std::size_t>(n)) != static_cast<std::size_t>(n))
-      throw Iex::IoExc("write failed");
+      fail("write failed");
   }
   uint64_t tellp() override { return static_cast<uint64_t>(proxy_->tell()); }
   void seekp(uint64_t pos) override {
-    if (!proxy_->seek(static_cast<int64_t>(pos))) throw Iex::IoExc("seek failed");
+    if (!proxy_->seek(static_cast<int64_t>(pos))) fail("seek failed");
   }
+  /// The first failure ("" : none). Cost: O(1).
+  const std::string& failure() const { return failure_; }
 
  private:
+  [[noreturn]] void fail(const char* what) {
+    if (failure_.empty()) failure_ = what;
+    throw Iex::IoExc(what);
+  }
+
   OIIO::Filesystem::IOProxy* proxy_;
+  std::string failure_;
 };
 
 // The header OpenImageIO writes for `spec`: a one-row file of the spec made in memory by OIIO,
@@ -161,11 +170,17 @@ void ExrScanlineWriter::write(int y, int rows, const void* data) {
 }
 
 void ExrScanlineWriter::close() {
+  Impl& m = *impl_;
+  const bool failed_before = !m.stream.failure().empty();
   try {
-    impl_->out.reset();  // writes the line offset table
+    m.out.reset();  // writes the line offset table
   } catch (const std::exception& e) {
-    throw Error("'" + impl_->file + "': write failed: " + e.what());
+    throw Error("'" + m.file + "': write failed: " + e.what());
   }
+  // OutputFile's destructor throws nothing: a failure there is known to the stream only.
+  if (!m.stream.failure().empty())
+    throw Error("'" + m.file + "': write failed: " + m.stream.failure() +
+                (failed_before ? " (the file is incomplete)" : " (the line offset table)"));
 }
 
 }  // namespace spectralize

@@ -5,12 +5,12 @@
 #include "colour/colour_space.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -64,10 +64,8 @@ TEST(ColourSpace, InteropIdsSayDisplayReferred) {
 // A process keeps the configs it parsed, keyed by location and bytes: a config edited between two
 // loads (same path, same size) is read again, and a broken one is never remembered as valid.
 TEST(ColourSpace, AnEditedConfigIsReadAgain) {
-  const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / ("cs_cache_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / "c.ocio").string();
+  const test::TempDir t("cs_cache");
+  const std::string path = t / "c.ocio";
   auto write = [&](const std::string& a, const std::string& b) {
     std::ofstream(path) << "ocio_profile_version: 2\nroles:\n  default: " << a
                         << "\n  scene_linear: " << a << "\n  cie_xyz_d65_interchange: " << a
@@ -88,7 +86,6 @@ TEST(ColourSpace, AnEditedConfigIsReadAgain) {
   write("lin_one", "extra_aa");  // back to the first bytes: the first config again
   const auto third = ColourSpaces::load(path).names();
   EXPECT_NE(std::find(third.begin(), third.end(), "extra_aa"), third.end());
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

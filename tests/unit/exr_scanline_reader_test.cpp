@@ -3,7 +3,6 @@
 // window off the origin; the decoded chunks it keeps within its budget; files it does not take.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 
@@ -11,6 +10,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "file_test_support.h"
 #include "imagefile/exr_scanline_reader.h"
 #include "spectralize/core/error.h"
 
@@ -19,10 +19,8 @@ namespace fs = std::filesystem;
 namespace spectralize {
 namespace {
 
-struct TempDir {
-  fs::path dir = fs::temp_directory_path() / ("exr_reader_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(dir); }
-  ~TempDir() { fs::remove_all(dir); }
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("exr_reader") {}
 };
 
 // A W x H image of channels B, G, R, A (stored in that order by OIIO's spec, written sorted by

@@ -356,21 +356,29 @@ std::string error_of(Fn&& fn) {
   return "";
 }
 
+// The bytes a whole file of `spec` takes, written without a limit: after the constructor (the
+// header), after the pixels, and after the close (the line offset table).
+struct WrittenBytes {
+  std::size_t header = 0, before_close = 0, total = 0;
+};
+WrittenBytes written_bytes(const OIIO::ImageSpec& spec, const std::vector<unsigned char>& bytes,
+                           const std::string& file) {
+  WrittenBytes n;
+  LimitedProxy all(SIZE_MAX);
+  ExrScanlineWriter w(spec, &all, file, 1);
+  n.header = all.accepted();
+  w.write(spec.y, kHeight, bytes.data());
+  n.before_close = all.accepted();
+  w.close();
+  n.total = all.accepted();
+  return n;
+}
+
 TEST(ExrScanlineWriter, AShortWriteIsAnErrorNamingTheFile) {
   const OIIO::ImageSpec spec = make_spec(OIIO::TypeHalf, "zip");
   const std::vector<unsigned char> bytes = as_bytes(make_pixels(OIIO::TypeHalf), OIIO::TypeHalf);
   const std::string file = "/somewhere/out.exr";
-  // The whole file's size, written without a limit.
-  std::size_t header = 0, before_close = 0, total = 0;
-  {
-    LimitedProxy all(SIZE_MAX);
-    ExrScanlineWriter w(spec, &all, file, 1);
-    header = all.accepted();
-    w.write(spec.y, kHeight, bytes.data());
-    before_close = all.accepted();
-    w.close();
-    total = all.accepted();
-  }
+  const auto [header, before_close, total] = written_bytes(spec, bytes, file);
   ASSERT_GT(header, 0u);
   ASSERT_GT(before_close, header);
   ASSERT_GT(total, before_close);  // the line offset table is written at the close
@@ -388,6 +396,26 @@ TEST(ExrScanlineWriter, AShortWriteIsAnErrorNamingTheFile) {
     EXPECT_NE(why.find("'" + file + "'"), std::string::npos) << why;
     EXPECT_NE(why.find("write failed"), std::string::npos) << why;
   }
+}
+
+// The line offset table is written when OpenEXR's OutputFile is destroyed, which swallows any
+// error: a disk that fills up there must still make close() fail, or an image whose chunks
+// cannot be found would be taken for a complete file.
+TEST(ExrScanlineWriter, AShortWriteOfTheLineOffsetTableIsAnErrorOfTheClose) {
+  const OIIO::ImageSpec spec = make_spec(OIIO::TypeHalf, "zip");
+  const std::vector<unsigned char> bytes = as_bytes(make_pixels(OIIO::TypeHalf), OIIO::TypeHalf);
+  const std::string file = "/somewhere/table.exr";
+  const auto [header, before_close, total] = written_bytes(spec, bytes, file);
+  ASSERT_GT(total, before_close);
+  // Every pixel fits; half of the table does not.
+  LimitedProxy p(before_close + (total - before_close) / 2);
+  ExrScanlineWriter w(spec, &p, file, 1);
+  w.write(spec.y, kHeight, bytes.data());
+  ASSERT_EQ(p.accepted(), before_close);
+  const std::string why = error_of([&] { w.close(); });
+  EXPECT_NE(why.find("'" + file + "'"), std::string::npos) << why;
+  EXPECT_NE(why.find("write failed"), std::string::npos) << why;
+  EXPECT_LT(p.accepted(), total);  // the table was indeed cut short
 }
 
 TEST(ExrScanlineWriter, ChannelsOtherThanHalfOrFloatAreRefused) {

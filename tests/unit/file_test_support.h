@@ -30,10 +30,11 @@ struct TempDir {
   std::string operator/(const std::string& name) const { return (dir / name).string(); }
 };
 
-/// An 8x8 spec with these channels and no alpha.
+/// A `width` x `height` spec with these channels and no alpha.
 inline OIIO::ImageSpec spec_of(std::vector<std::string> names,
-                               OIIO::TypeDesc type = OIIO::TypeFloat) {
-  OIIO::ImageSpec spec(8, 8, static_cast<int>(names.size()), type);
+                               OIIO::TypeDesc type = OIIO::TypeFloat, int width = 8,
+                               int height = 8) {
+  OIIO::ImageSpec spec(width, height, static_cast<int>(names.size()), type);
   spec.channelnames = std::move(names);
   spec.alpha_channel = -1;
   return spec;

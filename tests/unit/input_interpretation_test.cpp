@@ -5,7 +5,6 @@
 #include "classify/input_interpretation.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <fstream>
@@ -126,8 +125,8 @@ TEST(InputInterpretation, TheExactSpaceAmongThoseOfOneInteropId) {
              copy.find('\n', copy.find("    aliases:")) + 1 - copy.find("    aliases:"));
   const std::size_t first = text.find("  - !<ColorSpace>", text.find("\ncolorspaces:"));
   text.insert(first, copy);  // listed before every other space
-  const std::string config =
-      ::testing::TempDir() + "two_srgb_" + std::to_string(::getpid()) + ".ocio";
+  const test::TempDir t("two_srgb");
+  const std::string config = t / "two_srgb.ocio";
   std::ofstream(config) << text;
   const ColourSpaces spaces = ColourSpaces::load(config);
   ASSERT_EQ(spaces.interop_id("Painted sRGB"), "srgb_rec709_scene");

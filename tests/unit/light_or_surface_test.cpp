@@ -5,11 +5,11 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 
 #include "classify/input_interpretation.h"
+#include "file_test_support.h"
 
 namespace spectralize {
 namespace {
@@ -95,11 +95,8 @@ TEST(LightOrSurface, TheCluesInTheirOrder) {
   EXPECT_EQ(reads, 1);
 }
 
-struct TempDir {
-  std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / ("mode_clues_" + std::to_string(::getpid()));
-  TempDir() { std::filesystem::create_directories(dir); }
-  ~TempDir() { std::filesystem::remove_all(dir); }
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("mode_clues") {}
 };
 
 // A float RGB image of `value` everywhere but pixel (x, y), which is `spot`.

@@ -5,7 +5,6 @@
 // and an alternative.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "file_test_support.h"
 #include "imagefile/output_formats.h"
 #include "spectralize/core/error.h"
 
@@ -24,10 +24,8 @@ namespace fs = std::filesystem;
 namespace spectralize {
 namespace {
 
-struct TempDir {
-  fs::path dir = fs::temp_directory_path() / ("output_formats_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(dir); }
-  ~TempDir() { fs::remove_all(dir); }
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("output_formats") {}
 };
 
 OIIO::TypeDesc type_of(std::string_view name) {

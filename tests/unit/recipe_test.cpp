@@ -5,12 +5,12 @@
 #include "settings/recipe.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <memory>
 
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 
 namespace fs = std::filesystem;
@@ -72,8 +72,8 @@ TEST(Recipe, CacheWritesOnlyWhenAsked) {
 // Recipe chains: a thread's nested opens. Oracle: the documented limit and the file system's
 // identity of files (a hard link is the same recipe).
 TEST(RecipeChain, RefusesLoopsAndChainsBeyondTheLimitNamingTheFirstRecipe) {
-  const fs::path dir = fs::temp_directory_path() / ("recipe_chain_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir t("recipe_chain");
+  const fs::path& dir = t.dir;
   std::vector<std::string> paths;
   for (int i = 0; i <= kMaxRecipeDepth; ++i) {
     std::string name = "r";  // appended: GCC 12 warns falsely on "r" + std::string
@@ -113,7 +113,6 @@ TEST(RecipeChain, RefusesLoopsAndChainsBeyondTheLimitNamingTheFirstRecipe) {
   }
   // Every link has gone: the chain starts again at depth 1.
   EXPECT_EQ(RecipeChainLink(paths[3]).depth(), 1);
-  fs::remove_all(dir);
 }
 
 }  // namespace

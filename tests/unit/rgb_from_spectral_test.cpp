@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "file_test_support.h"
 #include "spectralize/core/error.h"
 #include "test_support.h"
 
@@ -142,11 +143,7 @@ double relative_error(const std::vector<float>& got, const Xyz& expected) {
          expected.max_abs();
 }
 
-OIIO::ImageSpec spec_of(const std::vector<std::string>& channels) {
-  OIIO::ImageSpec spec(4, 2, static_cast<int>(channels.size()), OIIO::TypeHalf);
-  spec.channelnames = channels;
-  return spec;
-}
+using test::spec_of;
 
 // --- Finding the spectral channels ---
 
@@ -382,7 +379,8 @@ TEST(RgbFromSpectral, TheSampleTypeIsTheOneAsked) {
 }
 
 TEST(RgbFromSpectral, TheOutputSpecKeepsTheWindowsAndSaysWhatTheRgbIs) {
-  OIIO::ImageSpec source = spec_of({"T.400,0nm", "T.500,0nm", "T.600,0nm", "T.700,0nm", "A"});
+  OIIO::ImageSpec source =
+      spec_of({"T.400,0nm", "T.500,0nm", "T.600,0nm", "T.700,0nm", "A"}, OIIO::TypeHalf, 4, 2);
   source.x = 3;
   source.y = -2;
   source.full_x = 0;

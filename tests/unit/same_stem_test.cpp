@@ -6,19 +6,19 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
+
+#include "file_test_support.h"
 
 namespace spectralize {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path dir = fs::path(::testing::TempDir()) / ("same_stem_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(dir / "tex"); }
-  ~TempDir() { fs::remove_all(dir); }
+// A fresh folder with an empty tex/ in it.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("same_stem") { fs::create_directories(dir / "tex"); }
 };
 
 std::string write(const fs::path& file, const std::string& software = "") {

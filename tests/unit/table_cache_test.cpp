@@ -4,11 +4,11 @@
 #include "pipeline/table_cache.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 
 #include "core/spectral_table.h"
+#include "file_test_support.h"
 
 namespace fs = std::filesystem;
 
@@ -16,8 +16,8 @@ namespace spectralize {
 namespace {
 
 TEST(TableCache, RoundTripAndRefusals) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("cache_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir t("cache");
+  const fs::path& dir = t.dir;
   SpectralizerSettings ss;
   const Spectralizer sp(ss);
   SpectralTable made(sp);
@@ -45,7 +45,6 @@ TEST(TableCache, RoundTripAndRefusals) {
   EXPECT_NE(save_table_cache(made, file, key), "");
   fs::remove(file);
   EXPECT_EQ(load_table_cache(other, file, key), "");  // absent: nothing to load, no complaint
-  fs::remove_all(dir);
 }
 
 }  // namespace

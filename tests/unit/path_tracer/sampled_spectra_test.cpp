@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "../file_test_support.h"
 #include "../test_support.h"
 
 namespace spectralize::path_tracer {
@@ -71,8 +72,8 @@ std::string write_exr(const std::filesystem::path& dir, bool even) {
 }
 
 TEST(SampledSpectra, ReadsSpectralExrsByWavelength) {
-  const auto dir = std::filesystem::temp_directory_path() / "spz_sampled_spectra_test";
-  std::filesystem::create_directories(dir);
+  const test::TempDir t("sampled_spectra");
+  const std::filesystem::path& dir = t.dir;
   const SampledSpectra s = SampledSpectra::read_exr(write_exr(dir, true), 2.0f);
   EXPECT_EQ(s.texels(), 2u);
   EXPECT_EQ(s.bands(), 3u);
@@ -86,7 +87,6 @@ TEST(SampledSpectra, ReadsSpectralExrsByWavelength) {
                                 {uneven, "evenly spaced"}, "uneven");
   test::expect_error_mentioning([&] { SampledSpectra::read_exr((dir / "none.exr").string()); },
                                 {"none.exr"}, "missing");
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
