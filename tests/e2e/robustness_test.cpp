@@ -341,9 +341,9 @@ TEST(Robustness, OutputTagsDescribeTheWrittenRgb) {
   EXPECT_EQ(peak, 1.0f);
 }
 
-// An independent reading of an ICC profile (ICC.1:2010 §7, §10): the primaries and white as
-// the profile's chromatic adaptation ('chad') maps them back from its D50 colorants, the red
-// tone curve at 0.5, and the description.
+// An independent reading of an ICC profile: the primaries and white as the profile's chromatic
+// adaptation ('chad') maps them back from its D50 colorants, the red tone curve at 0.5, and the
+// description.
 struct IccRead {
   bool ok = false;
   double xy[8] = {};
@@ -414,7 +414,7 @@ IccRead read_icc(const std::string& file) {
   return r;
 }
 
-// Truth (README "Colour tags"): every RGB file --to-rgb writes says its colour space in what
+// Truth (README "Honest colour tags"): every RGB file --to-rgb writes says its colour space in what
 // its format holds, read back by OIIO: EXR chromaticities (also for encoded spaces) and
 // colorInteropID; TIFF, PNG and JPEG an ICC profile of the space's primaries, white and curve;
 // where the format cannot say it (Radiance HDR beyond linear Rec.709, a log curve in TIFF) a
