@@ -22,6 +22,7 @@
 
 namespace fs = std::filesystem;
 using e2e::run;
+using e2e::temporaries;
 
 namespace {
 
@@ -30,16 +31,6 @@ const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
 struct Scratch : e2e::Scratch {
   Scratch() : e2e::Scratch("spectralize_fault") {}
 };
-
-// The temporary files of an interrupted run are named ".<output>.spectralize-XXXXXX.tmp".
-const std::regex kTemporary(R"(^\..*\.spectralize-[A-Za-z0-9]{6}\.tmp$)");
-
-std::vector<std::string> temporaries(const Scratch& s) {
-  std::vector<std::string> out;
-  for (const auto& name : s.files())
-    if (std::regex_match(name, kTemporary)) out.push_back(name);
-  return out;
-}
 
 // A float RGB map big enough that converting it takes about a second (written once per run).
 std::string big_input(const Scratch& s) {

@@ -18,6 +18,7 @@
 
 namespace fs = std::filesystem;
 using e2e::run;
+using e2e::write_exr;
 using Json = nlohmann::json;
 
 namespace {
@@ -27,14 +28,6 @@ const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
 struct Scratch : e2e::Scratch {
   Scratch() : e2e::Scratch("spectralize_hard") {}
 };
-
-void write_exr(const std::string& path, int w, int h, const std::vector<float>& rgb) {
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out && out->open(path, spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeFloat, rgb.data()));
-  out->close();
-}
 
 // Rewrites the dataWindow of an EXR header (box2i: xmin, ymin, xmax, ymax).
 void patch_data_window(const std::string& path, int xmax, int ymax) {

@@ -22,60 +22,20 @@
 #include "exr_support.h"
 
 namespace fs = std::filesystem;
+using e2e::max_difference;
+using e2e::read_json;
 using e2e::run;
+using e2e::tool;
+using e2e::write_image;
 using Json = nlohmann::json;
 
 namespace {
 
 const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
-const std::string kPlugins = "OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR " " SPECTRALIZE_TOOL_ENV;
 
 struct Scratch : e2e::Scratch {
   Scratch() : e2e::Scratch("spectralize_robust") {}
 };
-
-// Runs a stock OIIO tool (with our plugin) and returns its exit code and output.
-e2e::Run tool(const std::string& command) {
-  const std::string out = ::testing::TempDir() + "tool_" + std::to_string(::getpid());
-  const int status = std::system((kPlugins + " " + command + " >" + out + " 2>&1").c_str());
-  e2e::Run r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = e2e::slurp(out);
-  std::remove(out.c_str());
-  return r;
-}
-
-// Writes an image of any channel names and sample type, every sample `value` unless `pixels`.
-void write_image(const std::string& path, int w, int h, const std::vector<std::string>& names,
-                 OIIO::TypeDesc type, const std::vector<float>& pixels = {}, float value = 0.5f,
-                 const std::function<void(OIIO::ImageSpec&)>& edit = nullptr) {
-  OIIO::ImageSpec spec(w, h, static_cast<int>(names.size()), type);
-  spec.channelnames = names;
-  spec.alpha_channel = -1;
-  for (std::size_t c = 0; c < names.size(); ++c)
-    if (names[c] == "A") spec.alpha_channel = static_cast<int>(c);
-  if (edit) edit(spec);
-  std::vector<float> px = pixels;
-  if (px.empty()) px.assign(static_cast<std::size_t>(w) * h * names.size(), value);
-  auto out = OIIO::ImageOutput::create(path);
-  ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeFloat, px.data()));
-  ASSERT_TRUE(out->close());
-}
-
-Json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return Json::parse(f);
-}
-
-// The pixels of every channel of `a` and `b` agree to `tol` (same channel order).
-double max_difference(const e2e::Exr& a, const e2e::Exr& b) {
-  if (a.pixels.size() != b.pixels.size()) return INFINITY;
-  double worst = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i)
-    worst = std::max(worst, static_cast<double>(std::abs(a.pixels[i] - b.pixels[i])));
-  return worst;
-}
 
 // --- 1. Tiled and MIP-mapped inputs ---
 
