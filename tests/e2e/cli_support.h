@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +77,36 @@ inline Run run(const std::string& args, const std::string& env = "") {
   std::remove((base + ".out").c_str());
   std::remove((base + ".err").c_str());
   return r;
+}
+
+#ifdef SPECTRALIZE_PLUGIN_DIR
+/// Runs a stock OIIO tool (with our plugin) and returns its exit code and output (stdout and
+/// stderr together, in `out`).
+inline Run tool(const std::string& command) {
+  const std::string plugins = "OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR " " SPECTRALIZE_TOOL_ENV;
+  const std::string out = ::testing::TempDir() + "tool_" + std::to_string(::getpid());
+  const int status = std::system((plugins + " " + command + " >" + out + " 2>&1").c_str());
+  Run r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  std::remove(out.c_str());
+  return r;
+}
+#endif
+
+inline nlohmann::json read_json(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+
+/// The temporary files of an interrupted run in the folder, named
+/// ".<output>.spectralize-XXXXXX.tmp" (README "Files and guarantees").
+inline std::vector<std::string> temporaries(const Scratch& s) {
+  static const std::regex temporary(R"(^\..*\.spectralize-[A-Za-z0-9]{6}\.tmp$)");
+  std::vector<std::string> out;
+  for (const auto& name : s.files())
+    if (std::regex_match(name, temporary)) out.push_back(name);
+  return out;
 }
 
 /// Runs a shell command as a child process and returns its exit code (-1 if it did not exit)

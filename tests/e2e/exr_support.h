@@ -1,11 +1,15 @@
 #pragma once
-// Reading spectral EXRs in tests, independently of the library: OIIO for the pixels, our own
-// channel-name regex, and our own integration weights built from the CIE CSV tables.
+// Spectral EXRs and test images, independently of the library: OIIO to read and write the
+// pixels, our own channel-name regex, and our own integration weights built from the CIE CSV
+// tables.
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <functional>
 #include <map>
 #include <regex>
 #include <string>
@@ -46,6 +50,45 @@ inline Exr read_exr(const std::string& path) {
   e.pixels.resize(static_cast<std::size_t>(e.width) * e.height * e.channels.size());
   in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, e.pixels.data());
   return e;
+}
+
+/// The largest difference between the samples of `a` and `b` (same channel order); infinite
+/// when their sizes differ.
+inline double max_difference(const Exr& a, const Exr& b) {
+  if (a.pixels.size() != b.pixels.size()) return INFINITY;
+  double worst = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i)
+    worst = std::max(worst, static_cast<double>(std::abs(a.pixels[i] - b.pixels[i])));
+  return worst;
+}
+
+/// Writes a float RGB image of w x h pixels (interleaved `rgb`).
+inline void write_exr(const std::string& path, int w, int h, const std::vector<float>& rgb) {
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out && out->open(path, spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeFloat, rgb.data()));
+  out->close();
+}
+
+/// Writes an image of any channel names and sample type, every sample `value` unless `pixels`;
+/// `edit` may add attributes to the spec first.
+inline void write_image(const std::string& path, int w, int h,
+                        const std::vector<std::string>& names, OIIO::TypeDesc type,
+                        const std::vector<float>& pixels = {}, float value = 0.5f,
+                        const std::function<void(OIIO::ImageSpec&)>& edit = nullptr) {
+  OIIO::ImageSpec spec(w, h, static_cast<int>(names.size()), type);
+  spec.channelnames = names;
+  spec.alpha_channel = -1;
+  for (std::size_t c = 0; c < names.size(); ++c)
+    if (names[c] == "A") spec.alpha_channel = static_cast<int>(c);
+  if (edit) edit(spec);
+  std::vector<float> px = pixels;
+  if (px.empty()) px.assign(static_cast<std::size_t>(w) * h * names.size(), value);
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+  ASSERT_TRUE(out->write_image(OIIO::TypeFloat, px.data()));
+  ASSERT_TRUE(out->close());
 }
 
 /// The sample format and size of a file, without reading its pixels.

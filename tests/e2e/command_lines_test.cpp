@@ -1,0 +1,101 @@
+// Command lines and recipes through the real binary and stock oiiotool (README "Files and
+// guarantees", Command lines and recipes): empty values, flags of another command and long
+// values are refused with exit 2 in a short message naming the slip; `--`-separated inputs and
+// 255-byte output names work and --help gives the real defaults; recipes refuse what the
+// command line refuses, naming the recipe, and a recipe over 64 KB is refused with a short
+// message.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "cli_support.h"
+
+namespace fs = std::filesystem;
+using e2e::run;
+using e2e::tool;
+
+namespace {
+
+const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
+
+struct Scratch : e2e::Scratch {
+  Scratch() : e2e::Scratch("spectralize_cli") {}
+};
+
+struct BadFlag {
+  const char* args;
+  const char* expected;
+};
+class CommandLinesBadFlags : public ::testing::TestWithParam<BadFlag> {};
+
+TEST_P(CommandLinesBadFlags, AreRefusedWithExitTwoNamingTheSlip) {
+  auto r = run(GetParam().args);
+  EXPECT_EQ(r.exit_code, 2) << GetParam().args << "\n" << r.err;
+  EXPECT_NE(r.err.find(GetParam().expected), std::string::npos) << r.err;
+  EXPECT_LT(r.err.size(), 2000u) << "messages do not echo huge values";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CommandLinesBadFlags,
+    ::testing::Values(
+        BadFlag{"in.exr -o o.exr --threads ''", "--threads: an empty value"},
+        BadFlag{"--color 1,1,1 --observer ''", "--observer: an empty value"},
+        BadFlag{"--color 1,1,1 --mode ''", "--mode: an empty value"},
+        BadFlag{"in.exr -o o.exr --cache ''", "--cache: an empty value"},
+        BadFlag{"in.exr -o o.exr --report ''", "--report: an empty file name"},
+        BadFlag{"in.exr -o ''", "-o: an empty file name"},
+        BadFlag{"--color 1,1,1 --report r.json", "--report does not apply to --color"},
+        BadFlag{"--color 1,1,1 --compression zip", "--compression does not apply to --color"},
+        BadFlag{"--color 1,1,1 --tile 64", "--tile does not apply"},
+        BadFlag{"--to-rgb x.exr -o y.exr --wavelengths 400:700:10", "--wavelengths does not apply"},
+        BadFlag{"--color 1 1 1", "--color 1,1,1"},
+        BadFlag{"in.exr -o o.exr --compression bogus", "--compression: 'bogus'"},
+        BadFlag{"--color 1,1,1 --colorspace "
+                "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"
+                "ZZZZZ"
+                "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"
+                "ZZZZZ",
+                "bytes)"}));
+
+TEST(CommandLines, DoubleDashAndLongNamesWork) {
+  Scratch s;
+  fs::copy_file(kImages + "grey_ramp8.png", s / "-dash.png");
+  auto r = run("-q -o " + (s / "a.exr") + " -- -dash.png", "cd " + s.dir.string() + " &&");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / "a.exr"));
+  // An output name of 255 bytes (NAME_MAX): the temporary name fits too.
+  const std::string name = std::string(251, 'n') + ".exr";
+  r = run(kImages + "grey_ramp8.png -q -o " + (s / name));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / name));
+  // --help gives the real default of --filter.
+  r = run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  const std::regex filter(R"(--filter K[^\[]*\[auto\])");
+  EXPECT_TRUE(std::regex_search(r.out, filter)) << r.out.substr(0, 3000);
+}
+
+// Recipes and the CLI share one schema: the same values are accepted and refused.
+TEST(CommandLines, RecipesRefuseWhatTheCliRefuses) {
+  Scratch s;
+  fs::copy_file(kImages + "grey_ramp8.png", s / "grey.png");
+  for (const char* recipe :
+       {R"({"source": "grey.png", "compression": "bogus"})", R"({"source": "grey.png", "tile": 7})",
+        R"({"source": "grey.png", "threads": ""})", R"({"source": "grey.png", "report": "x"})"}) {
+    std::ofstream(s / "r.spectral") << recipe;
+    auto t = tool("oiiotool " + (s / "r.spectral") + " -o " + (s / "o.exr"));
+    EXPECT_NE(t.exit_code, 0) << recipe;
+    EXPECT_NE(t.out.find("r.spectral"), std::string::npos) << t.out;
+  }
+  // Recipes over 64 KB are refused (README), with a short message.
+  std::ofstream(s / "big.spectral")
+      << "{\"source\": \"grey.png\", \"x\": \"" << std::string(70000, 'y') << "\"}";
+  auto t = tool("oiiotool " + (s / "big.spectral") + " -o " + (s / "o.exr"));
+  EXPECT_NE(t.exit_code, 0);
+  EXPECT_LT(t.out.size(), 2000u);
+}
+
+}  // namespace
