@@ -115,17 +115,6 @@ Rgb parse_rgb(const std::string& text) {
   return {v[0], v[1], v[2], text};
 }
 
-ColourSpaces load_config(const Options& opt) {
-  if (opt.settings.config.empty()) return ColourSpaces::load();
-  // A config that does not load is the job's failure (exit 1); a value that names no config
-  // file at all (ocio://...) is the command line's (exit 2).
-  try {
-    return usage_checked("--config", [&] { return ColourSpaces::load(opt.settings.config); });
-  } catch (const ConfigError& e) {
-    throw ConfigError(std::string("--config: ") + e.what());
-  }
-}
-
 LogFn console_log(int verbosity) {
   return [verbosity](int level, const std::string& message) {
     if (level == 0 && verbosity > 0)

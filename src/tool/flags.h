@@ -64,10 +64,6 @@ ColourInputs colour_inputs(const Options& options);
 SpectrumResult spectralize_colour(const Spectralizer& spectralizer, SpectralTable* table,
                                   const ColourTransform& to_xyz, const Rgb& colour, int& status);
 
-/// The OCIO config of --config, else $OCIO or the shipped one; one that does not load is a
-/// ConfigError (exit 1). Cost: parsing the config, ~ms.
-ColourSpaces load_config(const Options& options);
-
 /// Warnings unless -q; stage details (levels 1 and 2) with -v. Cost: O(1).
 LogFn console_log(int verbosity);
 

@@ -15,6 +15,7 @@
 #include "colour/colour_space.h"
 #include "imagefile/image_reader.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/job_plan.h"
 #include "pipeline/rgb_from_spectral.h"
 #include "plot/spectrum_plot.h"
 #include "spectralize/core/error.h"
@@ -242,7 +243,11 @@ int run_plot_pixel(const Options& opt) {
   for (const auto& text : opt.plot_pixels) pixels.push_back(parse_pixel(text));
   const std::string& observer = opt.settings.spectral.observer;
   const std::string& illuminant = opt.settings.spectral.illuminant;
-  const ColourSpaces spaces = load_config(opt);
+  // Spectra to RGB without an output format (the plot's own): the config, loaded once.
+  const JobPlan plan = usage_checked("", [&] {
+    return plan_colours(opt.settings, ColourSubject::spectra, OptionNames{"--", "-o"});
+  });
+  const ColourSpaces& spaces = plan.colour_spaces();
   const PlotSpaces cs = plot_spaces(spaces);
   const SwatchColours swatch(cs);
 
