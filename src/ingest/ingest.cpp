@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cinttypes>
@@ -25,6 +26,7 @@
 #include "ingest/ingest_manifest.h"
 #include "pipeline/image_conversion.h"
 #include "pipeline/image_job.h"
+#include "pipeline/image_report.h"
 #include "pipeline/table_pool.h"
 #include "settings/map_kind.h"
 #include "spectralize/core/error.h"
@@ -146,132 +148,160 @@ struct Batch {
   }
 };
 
-// One file: up to date, non-colour data (skipped or copied), converted, or failed; the record.
-Json process(const IngestItem& item, Batch& batch) {
-  const auto start = Clock::now();
-  Json r;
-  put_path(r, "input", item.input);
-  put_path(r, "output", item.output);
-  auto finish = [&](const std::string& status, const std::string& message = "") {
-    r["status"] = status;
-    if (!message.empty()) r["message"] = utf8_escaped(message);
-    r["seconds"] = std::chrono::duration<double>(Clock::now() - start).count();
-    return r;
-  };
-  const bool force = batch.plan.request.force;
-  const std::string& dest = batch.plan.request.destination;
-  try {
-    if (!item.failure.empty()) throw Error(item.failure);
-    if (!item.derived_from.empty()) {  // its source is converted (same_stem.h)
-      put_path(r, "source", item.derived_from);
-      r["reason"] = utf8_escaped(item.note);
-      return finish("derived");
+// The fields of a converted file's record, as its report has them (pipeline/image_report.h),
+// in the manifest's order; "warnings" follows when there are any.
+constexpr std::array<const char*, 8> kConvertedFields{
+    "colorspace", "colorspace_reason",   "mode",           "mode_reason",
+    "pixels",     "out_of_gamut_pixels", "invalid_pixels", "max_relative_xyz_error"};
+
+// One file of a batch, taken through its steps in order: its source is converted (derived),
+// non-colour data (skipped or copied), up to date, converted, or failed. Each step that
+// settles the file returns its record.
+class FileIngest {
+ public:
+  FileIngest(const IngestItem& item, Batch& batch) : item_(item), batch_(batch) {
+    put_path(r_, "input", item.input);
+    put_path(r_, "output", item.output);
+  }
+
+  /// The file's record; null when the batch was asked to stop during its conversion (not done:
+  /// a rerun does it). Cost: the file's conversion or copy, or reading its output's header.
+  Json run() {
+    try {
+      if (!item_.failure.empty()) throw Error(item_.failure);
+      if (!item_.derived_from.empty()) {  // its source is converted (same_stem.h)
+        put_path(r_, "source", item_.derived_from);
+        r_["reason"] = utf8_escaped(item_.note);
+        return finish("derived");
+      }
+      if (!item_.note.empty()) r_["note"] = utf8_escaped(item_.note);
+      check_readable_file(item_.input, "input");
+      ::stat(item_.input.c_str(), &st_);
+      make_output_folder();
+      // By the words of its name and folders (map_kind.h), before the file is read.
+      const Settings& s = item_.settings;
+      const NameVerdict name =
+          map_kind_by_name(item_.input, name_words_in_force(s.data_names, s.colour_names));
+      if (name.kind == MapKind::data) {
+        if (!name.warnings.empty()) r_["warnings"] = name.warnings;
+        return as_data("data by its " + name.reason);
+      }
+      // The same request as made the output: up to date from its header alone.
+      const std::string prefix = key_prefix(item_, st_, batch_.plan.config_identity);
+      const std::string asked = request_key(prefix, item_);
+      ExrHeaderValues recorded;
+      if (!force()) {
+        recorded = exr_header_values(item_.output);
+        if (!recorded.strings[kKeyAttribute].empty() &&
+            recorded.strings[kRequestKeyAttribute] == asked)
+          return up_to_date(recorded);
+      }
+      JobPlan file_plan = batch_.plan.job;
+      file_plan.settings = s;
+      if (const std::string data_reason = decide(file_plan); !data_reason.empty())
+        return as_data(data_reason);
+      // Up to date: the key recorded in the output's header, of the settings as resolved.
+      if (!force() && recorded.strings[kKeyAttribute] == ingest_key(prefix, file_plan.settings))
+        return up_to_date(recorded);
+      return convert(file_plan, prefix, asked);
+    } catch (const Interrupted&) {
+      return Json();
+    } catch (const std::exception& e) {
+      return finish("failed", e.what());
     }
-    if (!item.note.empty()) r["note"] = utf8_escaped(item.note);
-    check_readable_file(item.input, "input");
-    struct stat st {};
-    ::stat(item.input.c_str(), &st);
-    Settings s = item.settings;
-    const fs::path out(item.output);
+  }
+
+ private:
+  bool force() const { return batch_.plan.request.force; }
+  const std::string& destination() const { return batch_.plan.request.destination; }
+
+  Json finish(const std::string& status, const std::string& message = "") {
+    r_["status"] = status;
+    if (!message.empty()) r_["message"] = utf8_escaped(message);
+    r_["seconds"] = std::chrono::duration<double>(Clock::now() - start_).count();
+    return r_;
+  }
+
+  void make_output_folder() {
+    const fs::path out(item_.output);
     std::error_code ec;
     fs::create_directories(out.parent_path(), ec);
     if (!fs::is_directory(out.parent_path(), ec))
-      throw FileError(quoted_path(item.output) + ": cannot create the folder " +
+      throw FileError(quoted_path(item_.output) + ": cannot create the folder " +
                       quoted_path(out.parent_path().string()) +
                       (ec ? ": " + ec.message() : std::string()));
-    batch.sweep(out.parent_path().string());
-    // Non-colour data: skipped, or copied byte for byte; never spectralized.
-    auto data = [&](const std::string& reason) {
-      r["reason"] = utf8_escaped(reason);
-      r.erase("output");
-      r.erase("output_base64");
-      if (!s.ingest.copy_data) return finish("skipped_data");
-      if (!item.copy_failure.empty()) throw FileError(item.copy_failure);
-      put_path(r, "output", item.copy);
-      if (!force && same_copy(item.copy, st)) return finish("up_to_date");
-      copy_checked(item.input, item.copy, st,
-                   WriteRules::named("the copy of " + quoted_path(item.input))
-                       .below(dest)
-                       .folder_synced_by_caller());
-      return finish("copied_data");
-    };
-    // By the words of its name and folders (map_kind.h), before the file is read.
-    const NameVerdict name =
-        map_kind_by_name(item.input, name_words_in_force(s.data_names, s.colour_names));
-    if (name.kind == MapKind::data) {
-      if (!name.warnings.empty()) r["warnings"] = name.warnings;
-      return data("data by its " + name.reason);
+    batch_.sweep(out.parent_path().string());
+  }
+
+  // Non-colour data: skipped, or copied byte for byte; never spectralized.
+  Json as_data(const std::string& reason) {
+    r_["reason"] = utf8_escaped(reason);
+    r_.erase("output");
+    r_.erase("output_base64");
+    if (!item_.settings.ingest.copy_data) return finish("skipped_data");
+    if (!item_.copy_failure.empty()) throw FileError(item_.copy_failure);
+    put_path(r_, "output", item_.copy);
+    if (!force() && same_copy(item_.copy, st_)) return finish("up_to_date");
+    copy_checked(item_.input, item_.copy, st_,
+                 WriteRules::named("the copy of " + quoted_path(item_.input))
+                     .below(destination())
+                     .folder_synced_by_caller());
+    return finish("copied_data");
+  }
+
+  // How the output was decided and what its conversion warned about, from its header.
+  Json up_to_date(ExrHeaderValues& recorded) {
+    recorded_decision(r_, recorded, item_.input, batch_.plan.request.names);
+    return finish("up_to_date");
+  }
+
+  // Decided once (docs/DESIGN.md §9): data by an ambiguous word settled by the channels or by a
+  // data colour space (the reason returned); else light or surface, into `plan` with the
+  // settings as resolved for this file, which decide whether its output is up to date as they
+  // decide what the conversion writes into the header. The conversion takes this decision.
+  std::string decide(JobPlan& plan) {
+    const ImageReader reader(item_.input, spectral_output_channels(plan.settings), true);
+    const InputInterpretation in =
+        interpret_colour(item_.input, reader.spec(), plan.settings, plan.colour_spaces());
+    if (!in.data_reason.empty()) {
+      if (!in.warnings.empty()) r_["warnings"] = in.warnings;
+      return in.data_reason;
     }
-    // The same request as made the output: up to date from its header alone.
-    const std::string prefix = key_prefix(item, st, batch.plan.config_identity);
-    const std::string asked = request_key(prefix, item);
-    ExrHeaderValues recorded;
-    if (!force) {
-      recorded = exr_header_values(item.output);
-      if (!recorded.strings[kKeyAttribute].empty() &&
-          recorded.strings[kRequestKeyAttribute] == asked) {
-        recorded_decision(r, recorded, item.input, batch.plan.request.names);
-        return finish("up_to_date");
-      }
-    }
-    // Decided once (docs/DESIGN.md §9): data by an ambiguous word settled by the channels or
-    // by a data colour space; else light or surface. The settings as resolved for this file
-    // decide whether its output is up to date, as they decide what the conversion writes into
-    // the header; the conversion takes this decision as it is.
-    JobPlan file_plan = batch.plan.job;
-    file_plan.settings = s;
-    {
-      const ImageReader reader(item.input, spectral_output_channels(s), true);
-      const InputInterpretation in =
-          interpret_colour(item.input, reader.spec(), s, file_plan.colour_spaces());
-      if (!in.data_reason.empty()) {
-        if (!in.warnings.empty()) r["warnings"] = in.warnings;
-        return data(in.data_reason);
-      }
-      file_plan = planned_input(file_plan, item.input, reader.spec(), &in);
-    }
-    const std::string key = ingest_key(prefix, file_plan.settings);
-    // Up to date: the key recorded in the output's header, which also says how the file was
-    // decided and what its conversion warned about.
-    if (!force && recorded.strings[kKeyAttribute] == key) {
-      recorded_decision(r, recorded, item.input, batch.plan.request.names);
-      return finish("up_to_date");
-    }
+    plan = planned_input(plan, item_.input, reader.spec(), &in);
+    return "";
+  }
+
+  Json convert(const JobPlan& plan, const std::string& prefix, const std::string& asked) {
     ImageJobOptions options;
-    options.shared.pool = &batch.pool;
-    options.shared.share = &batch.share;
-    options.output = WriteRules::named("the output of " + quoted_path(item.input))
-                         .below(dest)
+    options.shared.pool = &batch_.pool;
+    options.shared.share = &batch_.share;
+    options.output = WriteRules::named("the output of " + quoted_path(item_.input))
+                         .below(destination())
                          .folder_synced_by_caller();
     options.shared.attributes = [&](const Settings& resolved) {
       return std::map<std::string, std::string>{{kKeyAttribute, ingest_key(prefix, resolved)},
                                                 {kRequestKeyAttribute, asked},
-                                                {"spectralize:source", item.input}};
+                                                {"spectralize:source", item_.input}};
     };
-    const ThreadShare::Running running(batch.share);
-    r["threads"] = batch.share.now();  // at its start; files finishing give theirs later
+    const ThreadShare::Running running(batch_.share);
+    r_["threads"] = batch_.share.now();  // at its start; files finishing give theirs later
     // Between strips: a stop request abandons the conversion (its temporary is removed).
-    const ProgressFn check_stop = [&batch](std::uint64_t, std::uint64_t) {
-      if (batch.stopping()) throw Interrupted();
+    const ProgressFn check_stop = [this](std::uint64_t, std::uint64_t) {
+      if (batch_.stopping()) throw Interrupted();
     };
-    const ImageReport rep = run_image_job(file_plan, item.input, item.output, check_stop, batch.log,
-                                          options);  // as decided (and keyed) here
-    r["colorspace"] = rep.colorspace;
-    r["colorspace_reason"] = rep.colorspace_reason;
-    r["mode"] = std::string(to_string(rep.settings.spectral.mode));
-    r["mode_reason"] = rep.mode_reason;
-    r["pixels"] = rep.pixels;
-    r["out_of_gamut_pixels"] = rep.out_of_gamut_pixels();
-    r["invalid_pixels"] = rep.counts.invalid;
-    r["max_relative_xyz_error"] = rep.counts.max_error;
-    if (!rep.warnings.empty()) r["warnings"] = rep.warnings;
+    const Json report = report_record(
+        run_image_job(plan, item_.input, item_.output, check_stop, batch_.log, options));
+    for (const char* field : kConvertedFields) r_[field] = report.at(field);
+    if (!report.at("warnings").empty()) r_["warnings"] = report.at("warnings");
     return finish("converted");
-  } catch (const Interrupted&) {
-    return Json();  // not done: no record, so a rerun does it
-  } catch (const std::exception& e) {
-    return finish("failed", e.what());
   }
-}
+
+  const IngestItem& item_;
+  Batch& batch_;
+  const Clock::time_point start_ = Clock::now();
+  Json r_;
+  struct stat st_ {};
+};
 
 }  // namespace
 
@@ -314,7 +344,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
     ensure_signal_stack();  // a crash on this thread still removes the batch's temporaries
     for (std::size_t i; (i = next.fetch_add(1)) < plan.items.size();) {
       if (batch.stopping()) break;
-      Json r = process(plan.items[i], batch);
+      Json r = FileIngest(plan.items[i], batch).run();
       std::lock_guard<std::mutex> lock(mutex);
       if (r.is_null()) continue;  // interrupted
       const std::string status = r["status"];

@@ -77,7 +77,7 @@ PixelCounts counts_from_attributes(const std::map<std::string, double>& a) {
   return c;
 }
 
-std::string report_json(const ImageReport& r, int indent) {
+Json report_record(const ImageReport& r) {
   Json j;
   put_path(j, "input", r.input);
   put_path(j, "output", r.output);
@@ -123,7 +123,11 @@ std::string report_json(const ImageReport& r, int indent) {
                   {"convert", r.seconds_convert},
                   {"write", r.seconds_write},
                   {"total", r.seconds_total}};
-  return dump_json(j, indent);
+  return j;
+}
+
+std::string report_json(const ImageReport& r, int indent) {
+  return dump_json(report_record(r), indent);
 }
 
 std::string report_json(const ToRgbReport& r, int indent) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,6 +70,9 @@ std::vector<std::pair<std::string, double>> count_attributes(const PixelCounts& 
 /// The counts read back from those attributes (absent ones are 0). Cost: O(attributes).
 PixelCounts counts_from_attributes(const std::map<std::string, double>& attributes);
 
+/// The report as a JSON object: the one record every front end takes its fields from (--report,
+/// the ingest manifest, the Python module). Cost: O(report).
+nlohmann::ordered_json report_record(const ImageReport& report);
 /// The report as JSON text (indent < 0: one line). Cost: O(report).
 std::string report_json(const ImageReport& report, int indent = 2);
 /// The reverse job's report as JSON text. Cost: O(report).
