@@ -123,7 +123,7 @@ std::string config_identity_now(const Settings& s) {
 }
 
 // The colour setup for these settings, made once per distinct settings (config, colour space
-// and table); ValueError for an unknown or data colour space or a bad config. The key holds
+// and table); ValueError for an unknown colour space or a bad config. The key holds
 // every setting of the schema as given and the config's identity now, so no option of a call
 // is ever answered by a setup made for other options.
 ColourArrays& colour_arrays(const Settings& s, Messages& messages) {
@@ -220,6 +220,7 @@ py::tuple spectra(const py::object& rgb, const py::object& out_given, const py::
   py::array_t<double> wavelengths(static_cast<py::ssize_t>(grid.size()));
   for (std::size_t i = 0; i < grid.size(); ++i) wavelengths.mutable_at(i) = grid[i];
   messages.emit();
+  for (const std::string& w : arrays.warnings()) warn("spectra(): " + w);
   for (const std::string& w : count_warnings(counts, "spectra(): rgb", "colours", kKeywordNames))
     warn(w);
   for (const std::string& w : save_warnings) warn(w);

@@ -519,14 +519,17 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
   return in;
 }
 
+std::string data_space_warning(const std::string& space) {
+  return "colour space '" + space +
+         "' is marked as data (not colour) in the OCIO config; its values are taken as CIE XYZ";
+}
+
 InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSpec& spec,
                                     const Settings& settings, const ColourSpaces& spaces) {
   InputInterpretation in = interpret_colour(file, spec, settings, spaces);
   const std::string where = "'" + clip(file, 200) + "': ";
   if (spaces.is_data(in.colorspace))
-    in.warnings.push_back(where + "colour space '" + in.colorspace +
-                          "' is marked as data (not colour) in the OCIO config; its values are "
-                          "taken as CIE XYZ");
+    in.warnings.push_back(where + data_space_warning(in.colorspace));
   else if (!in.data_reason.empty())
     in.warnings.push_back(where + "non-colour data by its " + in.name.reason +
                           ": its values are not a colour; converted as asked (ingest skips "

@@ -60,6 +60,11 @@ std::string icc_description(const unsigned char* data, std::size_t size);
 InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageSpec& spec,
                                      const Settings& settings, const ColourSpaces& spaces);
 
+/// What is said when the values of a data colour space (`space`, raw or non-colour in the
+/// config) are converted anyway, for an image, a --color or an array of colours alike: they
+/// are taken as CIE XYZ. Cost: O(1).
+std::string data_space_warning(const std::string& space);
+
 /// interpret_colour, then light or surface by decide_mode (light_or_surface.h), with a warning
 /// for data converted anyway. Cost: interpret_colour, plus reading the image when no earlier
 /// clue decides its mode (float data without a light or surface word).

@@ -11,10 +11,7 @@
 namespace spectralize {
 
 ColourArrays::ColourArrays(const JobPlan& plan, TablePool& pool, const LogFn& log)
-    : settings_(plan.settings), spaces_(plan.spaces) {
-  if (spaces_->is_data(settings_.colorspace))
-    throw Error(plan.names("colorspace") + " '" + settings_.colorspace +
-                "': is a data space (not colour) in the config");
+    : settings_(plan.settings), warnings_(plan.warnings), spaces_(plan.spaces) {
   settings_.half = false;
   to_xyz_ = spaces_->to_xyz(settings_.colorspace);
   entry_ = &pool.get(settings_, table_frame(*spaces_, settings_.colorspace), log);

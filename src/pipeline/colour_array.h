@@ -22,12 +22,16 @@ namespace spectralize {
 class ColourArrays {
  public:
   /// For the colours `plan` (plan_colours of colours: colour space and mode resolved) says:
-  /// takes the spectralizer and table for them from `pool` (loading settings.cache_dir). Throws
-  /// Error for a data colour space. Cost: the first time, the table's setup.
+  /// takes the spectralizer and table for them from `pool` (loading settings.cache_dir). A data
+  /// colour space's values are taken as CIE XYZ, as an image's are (warnings()). Cost: the first
+  /// time, the table's setup.
   ColourArrays(const JobPlan& plan, TablePool& pool, const LogFn& log);
 
   /// The settings as used (colour space and mode resolved). Cost: O(1).
   const Settings& settings() const { return settings_; }
+  /// What the plan warned about (a data colour space), for the caller to show on each use.
+  /// Cost: O(1).
+  const std::vector<std::string>& warnings() const { return warnings_; }
   /// Samples per spectrum. Cost: O(1).
   std::size_t bands() const { return settings_.spectral.grid.size(); }
 
@@ -38,6 +42,7 @@ class ColourArrays {
 
  private:
   Settings settings_;
+  std::vector<std::string> warnings_;
   std::shared_ptr<const ColourSpaces> spaces_;
   TablePool::Entry* entry_ = nullptr;
   ColourTransform to_xyz_;

@@ -148,7 +148,13 @@ JobPlan plan_colours(Settings s, ColourSubject subject, const OptionNames& names
   s.spectral.mode = mode_of_subject(s.mode, subject);
   if (subject == ColourSubject::table)
     s.mode = s.spectral.mode == Mode::emission ? ModeChoice::emission : ModeChoice::reflectance;
-  return plan_of(std::move(s), std::move(spaces), names, subject == ColourSubject::spectra);
+  // As for an image (classify/input_interpretation.h): a data space's values are not a colour.
+  std::vector<std::string> warnings;
+  if (subject == ColourSubject::colours && spaces->is_data(s.colorspace))
+    warnings.push_back(data_space_warning(s.colorspace));
+  JobPlan plan = plan_of(std::move(s), std::move(spaces), names, subject == ColourSubject::spectra);
+  plan.warnings = std::move(warnings);
+  return plan;
 }
 
 int spectral_output_channels(const Settings& settings, bool alpha) {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
@@ -41,6 +42,7 @@ struct JobPlan {
   OptionNames names{"--", "-o"};               // the caller's spellings, for messages
   std::shared_ptr<const ColourSpaces> spaces;  // the config, parsed once per job (or batch)
   bool to_rgb = false;                         // the direction
+  std::vector<std::string> warnings;  // said while planning, for the caller to show (each use)
   // After planned_input:
   std::string input;                   // the file decided ("" before)
   InputInterpretation interpretation;  // to spectral: channels, colour space, mode, reasons
@@ -77,7 +79,8 @@ JobPlan plan_to_rgb(Settings settings, const std::string& output, bool format_gi
 
 /// Colours without an image (`subject`): the config loads; the colour space resolved (given,
 /// else the config's scene-linear space; a display for spectra to RGB); the mode resolved
-/// (mode_of_subject). Cost: the config's parse.
+/// (mode_of_subject). Colours in a data colour space are converted as an image's are, with
+/// data_space_warning in the plan's warnings. Cost: the config's parse.
 JobPlan plan_colours(Settings settings, ColourSubject subject, const OptionNames& names);
 
 /// The mode of a colour job without an image: --mode if given, else the subject's default

@@ -27,12 +27,7 @@ ColourInputs colour_inputs(const Options& opt) {
   });
   const ColourSpaces& spaces = plan.colour_spaces();
   const std::string& space = plan.settings.colorspace;  // resolved
-  // As for an image (input_interpretation.cpp): a data space's values are not a colour.
-  if (spaces.is_data(space))
-    fmt::print(stderr,
-               "spectralize WARNING: colour space '{}' is marked as data (not colour) in the "
-               "OCIO config; the values are taken as CIE XYZ\n",
-               space);
+  for (const std::string& w : plan.warnings) fmt::print(stderr, "spectralize WARNING: {}\n", w);
   // Named as given (an alias stays an alias in messages).
   ColourTransform to_xyz = usage_checked("--colorspace", [&] {
     return spaces.to_xyz(opt.settings.colorspace.empty() ? space : opt.settings.colorspace);

@@ -35,7 +35,6 @@ def test_bad_rgb(sp, rgb, error, message):
         ({"mode": "light"}, ValueError, r"spectra\(\): mode: 'light' \(valid: auto, emission, reflectance\)"),
         ({"modes": "emission"}, ValueError, r"spectra\(\): unknown option 'modes' \(valid: colorspace, mode,"),
         ({"colorspace": "Linear sRGB 2"}, ValueError, r"spectra\(\): colorspace: unknown colour space"),
-        ({"colorspace": "Raw"}, ValueError, r"colorspace 'Raw': is a data space"),
         ({"wavelengths": "380:780:0"}, ValueError, r"spectra\(\): wavelengths"),
         ({"wavelengths": (380, 780, 5)}, TypeError, r"wavelengths: expected a string or a number, got tuple"),
         ({"model": "magic"}, ValueError, r"spectra\(\): model: unknown model 'magic' \(valid: exemplar, natural, smooth, paper\)"),

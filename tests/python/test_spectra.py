@@ -136,6 +136,17 @@ def test_out_of_gamut_colours_are_mapped_and_reported(sp):
     assert v.min() >= 0 and v.max() <= 1
 
 
+def test_a_data_colour_space_is_taken_as_xyz_with_a_warning_on_every_call(sp, oracle):
+    """As for an image and a --color: the values of a space the config marks as data ('Raw')
+    are CIE XYZ, converted exactly, and the warning is said on each call (the setup is kept)."""
+    xyz = np.array([[0.2, 0.3, 0.4], [1.5, 1.2, 0.3]])
+    for _ in range(2):
+        with pytest.warns(sp.SpectralizeWarning,
+                          match=r"spectra\(\): colour space 'Raw' is marked as data .* CIE XYZ"):
+            wl, values = sp.spectra(xyz, colorspace="Raw")
+        assert relative_error(oracle.emission_xyz(values, wl), xyz) <= 1e-5
+
+
 def test_gil_is_released(sp):
     """Another Python thread keeps running while spectra() works."""
     rgb = RNG.uniform(0, 1, size=(600_000, 3))

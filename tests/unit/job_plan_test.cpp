@@ -46,6 +46,23 @@ TEST(JobPlan, ColourJobsWithoutAnImageTakeTheirSubjectsDefaultMode) {
   ASSERT_TRUE(plan.spaces);
 }
 
+TEST(JobPlan, ColoursInADataSpaceAreWarnedAboutInTheWordsAnImageIs) {
+  // A space the config marks as data ("isdata: true": Raw) holds no colour: colours in it are
+  // taken as CIE XYZ with a warning, as an image in it is (README "--color"); not refused.
+  Settings raw;
+  raw.colorspace = "Raw";
+  const JobPlan colours = plan_colours(raw, ColourSubject::colours, kKeywords);
+  ASSERT_EQ(colours.warnings.size(), 1u);
+  EXPECT_NE(colours.warnings[0].find("'Raw' is marked as data"), std::string::npos);
+  EXPECT_NE(colours.warnings[0].find("taken as CIE XYZ"), std::string::npos);
+  const JobPlan image = planned_input(plan_to_spectral(raw, "out.exr", kFlags), "albedo.png",
+                                      spec_of({"R", "G", "B"}, OIIO::TypeUInt8));
+  ASSERT_FALSE(image.interpretation.warnings.empty());
+  EXPECT_EQ(image.interpretation.warnings[0], "'albedo.png': " + colours.warnings[0]);
+  // A colour space is not data: nothing to say.
+  EXPECT_TRUE(plan_colours(Settings{}, ColourSubject::colours, kKeywords).warnings.empty());
+}
+
 TEST(JobPlan, SettingsAreRefusedNamingTheOptionAsTheCallerSpellsIt) {
   Settings s;
   s.colorspace = "no such space";
