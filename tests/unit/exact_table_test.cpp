@@ -18,11 +18,7 @@
 namespace spectralize {
 namespace {
 
-Mat3 frame_of(const test::Mat3& m) {
-  Mat3 f;
-  for (int i = 0; i < 9; ++i) f[i] = m[i / 3][i % 3];
-  return f;
-}
+using test::frame_of;
 
 Xyz integrate(const Spectralizer& sp, const std::vector<float>& v) {
   const std::vector<double> d(v.begin(), v.end());
