@@ -1,45 +1,24 @@
 // The exact table built in the core (docs/DESIGN.md §14): lazily, cell by cell, every colour
 // of the gamut gets a blend that reproduces it (the test's own integration) within the bounds;
-// built whole, its file is the same whatever the threads; stored nodes are checked before use.
+// stored nodes are checked before use (the table built whole, as a file, is in
+// table_file_test.cpp).
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <random>
-#include <thread>
-
-#define SPECTRALIZE_RT_IMPLEMENTATION
-#include <spectralize/rt.hpp>
 
 #include "core/exact_table.h"
-#include "core/table_file.h"
 #include "test_support.h"
 
 namespace spectralize {
 namespace {
 
-Mat3 frame_of(const test::Mat3& m) {
-  Mat3 f;
-  for (int i = 0; i < 9; ++i) f[i] = m[i / 3][i % 3];
-  return f;
-}
+using test::frame_of;
 
 Xyz integrate(const Spectralizer& sp, const std::vector<float>& v) {
   const std::vector<double> d(v.begin(), v.end());
   return test::reference_xyz(sp.settings().grid, d, Observer::get(sp.settings().observer),
                              sp.illuminant() ? &sp.illuminant()->spd : nullptr);
-}
-
-ParallelFor threads(int n) {
-  return [n](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::atomic<std::size_t> next{0};
-    std::vector<std::thread> pool;
-    for (int t = 0; t < n; ++t)
-      pool.emplace_back([&] {
-        for (std::size_t b; (b = next.fetch_add(37)) < count;) body(b, std::min(count, b + 37));
-      });
-    for (auto& t : pool) t.join();
-  };
 }
 
 // A coarse table (fast to build) is as exact as the default one.
@@ -85,40 +64,6 @@ TEST(ExactTable, LazyBlendsReproduceEveryColourOfTheGamut) {
     EXPECT_GT(table.stats().boundary_cells, 0u);
     EXPECT_LE(worst, 1e-5);
   }
-}
-
-TEST(ExactTable, TheFileIsTheSameWhateverTheThreadsAndAgreesWithTheCore) {
-  SpectralizerSettings s;
-  s.mode = Mode::reflectance;
-  const Spectralizer sp(s);
-  ExactTable one(sp, frame_of(test::kRec709ToXyz), kCoarse),
-      two(sp, frame_of(test::kRec709ToXyz), kCoarse);
-  one.build(threads(1));
-  two.build(threads(3));
-  const std::string a = encode_table_file(one, sp, {"Linear Rec.709 (sRGB)", "lin_rec709_scene"});
-  const std::string b = encode_table_file(two, sp, {"Linear Rec.709 (sRGB)", "lin_rec709_scene"});
-  EXPECT_EQ(a, b);
-  // The evaluator reads it, and gives the core's spectra.
-  std::vector<std::uint64_t> aligned(a.size() / 8 + 1);
-  std::memcpy(aligned.data(), a.data(), a.size());
-  spz::TableView view;
-  char error[256];
-  ASSERT_TRUE(view.open(aligned.data(), a.size(), error, sizeof error)) << error;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(-0.5f, 1.5f);
-  std::vector<float> core(81), rt(81);
-  double worst = 0;
-  for (int k = 0; k < 2000; ++k) {
-    const float rgb[3] = {u(rng), u(rng), u(rng)};
-    spz::Spectrum spec;
-    if (view.fetch(rgb, spec) != SPZ_EXACT) continue;
-    spz::samples(spec, rt.data());
-    TableBlend blend;
-    ASSERT_TRUE(one.locate(mul(one.target_from_rgb(), Xyz{rgb[0], rgb[1], rgb[2]}), blend, true));
-    one.blend_into(blend, core.data());
-    for (int i = 0; i < 81; ++i) worst = std::max(worst, double(std::abs(core[i] - rt[i])));
-  }
-  EXPECT_LE(worst, 1e-6);
 }
 
 TEST(ExactTable, StoredNodesAreCheckedAgainstTheirColour) {

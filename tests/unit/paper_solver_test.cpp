@@ -1,7 +1,7 @@
-// EdgeFilter parsing and PaperSolver against an independent brute force of the paper's method
-// (docs/DESIGN.md §2): every triple i < j < k, its 3x3 system solved by Cramer's rule, the
-// admissible (all densities >= 0) partial solutions averaged, optionally after dropping the K with
-// the largest density.
+// PaperSolver against an independent brute force of the paper's method (docs/DESIGN.md §2):
+// every triple i < j < k, its 3x3 system solved by Cramer's rule, the admissible (all densities
+// >= 0) partial solutions averaged, optionally after dropping the K with the largest density
+// (EdgeFilter itself is in edge_filter_test.cpp).
 
 #include "core/paper_solver.h"
 
@@ -19,67 +19,8 @@
 namespace spectralize {
 namespace {
 
-using test::expect_error_mentioning;
 using test::Mat3;
 using test::rel_err;
-
-// --- EdgeFilter ---
-
-TEST(EdgeFilter, ParsesFractionsPercentagesCountsAndNone) {
-  EdgeFilter f = EdgeFilter::parse("0.7");
-  EXPECT_EQ(f.kind(), EdgeFilter::Kind::fraction);
-  EXPECT_DOUBLE_EQ(f.value(), 0.7);
-  EdgeFilter p = EdgeFilter::parse("70%");
-  EXPECT_EQ(p.kind(), EdgeFilter::Kind::fraction);
-  EXPECT_DOUBLE_EQ(p.value(), 0.7);  // 70/100 rounds to the double nearest 0.7
-  EdgeFilter c = EdgeFilter::parse("1000");
-  EXPECT_EQ(c.kind(), EdgeFilter::Kind::count);
-  EXPECT_EQ(c.value(), 1000.0);
-  EdgeFilter n = EdgeFilter::parse("none");
-  EXPECT_EQ(n, EdgeFilter());
-  EXPECT_EQ(n.drop_count(12345), 0u);
-  EXPECT_EQ(EdgeFilter::parse("0").drop_count(12345), 0u);  // a count of zero drops nothing
-  EdgeFilter a = EdgeFilter::parse("auto");
-  EXPECT_EQ(a.kind(), EdgeFilter::Kind::automatic);
-  EXPECT_EQ(a, EdgeFilter::automatic());
-  EXPECT_EQ(a.drop_count(10), 7u);  // documented: its first ladder step, 0.7
-}
-
-TEST(EdgeFilter, RejectsBadTextWithTheReason) {
-  auto parse = [](const char* s) { return [s] { (void)EdgeFilter::parse(s); }; };
-  expect_error_mentioning(parse("-1"), {"negative"}, "-1");
-  expect_error_mentioning(parse("1.5"), {"below 1"}, "1.5 as a fraction");
-  expect_error_mentioning(parse("abc"), {"abc", "fraction"}, "abc");
-  expect_error_mentioning(parse("100%"), {"100%"}, "100%");
-  expect_error_mentioning(parse(""), {"fraction"}, "empty");
-  expect_error_mentioning(parse("0.7.1"), {}, "two dots");
-  expect_error_mentioning(parse("inf"), {}, "infinity");
-  expect_error_mentioning([] { (void)EdgeFilter::fraction(1.0); }, {"[0, 1)"}, "fraction 1");
-  expect_error_mentioning([] { (void)EdgeFilter::fraction(std::nan("")); }, {}, "fraction NaN");
-}
-
-TEST(EdgeFilter, DropCountFloorsTheFractionAndKeepsAtLeastOne) {
-  const EdgeFilter f = EdgeFilter::fraction(0.7);
-  EXPECT_EQ(f.drop_count(10), 7u);  // floor(7.0)
-  EXPECT_EQ(f.drop_count(1000), 700u);
-  EXPECT_EQ(f.drop_count(3), 2u);  // floor(2.1)
-  EXPECT_EQ(f.drop_count(1), 0u);  // the only solution is kept
-  EXPECT_EQ(f.drop_count(0), 0u);
-  EXPECT_EQ(EdgeFilter::fraction(0.999).drop_count(2), 1u);  // floor(1.998) = 1, keeps 1
-  const EdgeFilter c = EdgeFilter::count(1000);
-  EXPECT_EQ(c.drop_count(5000), 1000u);
-  EXPECT_EQ(c.drop_count(1000), 999u);  // would drop all: keeps one
-  EXPECT_EQ(c.drop_count(10), 9u);
-  EXPECT_EQ(c.drop_count(1), 0u);
-  EXPECT_EQ(c.drop_count(0), 0u);
-}
-
-TEST(EdgeFilter, ToStringRoundTrips) {
-  for (const EdgeFilter& f :
-       {EdgeFilter(), EdgeFilter::fraction(0.7), EdgeFilter::fraction(0.5), EdgeFilter::count(1000),
-        EdgeFilter::count(0), EdgeFilter::automatic()})
-    EXPECT_EQ(EdgeFilter::parse(f.to_string()), f) << f.to_string();
-}
 
 // --- The brute-force reference ---
 

@@ -1,6 +1,6 @@
-// Observers, illuminants and SampleWeights: the CIE data the library embeds, and the sample
-// weights that make W . phi equal the reference integration of docs/DESIGN.md §3. The oracle is the
-// 1 nm trapezoid loop of test_support.h, written from the definition.
+// SampleWeights: the sample weights that make W . phi equal the reference integration of
+// docs/DESIGN.md §3 (the observers and illuminants they rest on are in colorimetry_test.cpp).
+// The oracle is the 1 nm trapezoid loop of test_support.h, written from the definition.
 
 #include "spectralize/core/sample_weights.h"
 
@@ -12,131 +12,17 @@
 #include <vector>
 
 #include "spectralize/core/colorimetry.h"
-#include "spectralize/core/error.h"
 #include "test_support.h"
 
 namespace spectralize {
 namespace {
 
 using test::chromaticity;
-using test::expect_error_mentioning;
+using test::illuminant_xyz;
 using test::raw_integral;
 using test::reference_norm;
 using test::reference_xyz;
 using test::rel_err;
-
-// Index of wavelength `nm` on the 1 nm reference table.
-std::size_t at(int nm) {
-  return static_cast<std::size_t>(nm - 360);
-}
-
-// XYZ of an illuminant itself (a light with that SPD), integrated on the full 1 nm table.
-Xyz illuminant_xyz(const Observer& obs, const Illuminant& il) {
-  Xyz s;
-  for (int nm = 360; nm <= 830; ++nm) {
-    const double tau = (nm == 360 || nm == 830) ? 0.5 : 1.0;
-    for (int c = 0; c < 3; ++c) s[c] += tau * obs.cmf[c][at(nm)] * il.spd[at(nm)];
-  }
-  return s;
-}
-
-// --- Observers ---
-
-TEST(Observer, LoadsBothStandardObserversOnThe1nmTable) {
-  const Observer& o2 = Observer::get("cie1931");
-  const Observer& o10 = Observer::get("cie1964");
-  EXPECT_EQ(o2.name, "cie1931");
-  EXPECT_EQ(o10.name, "cie1964");
-  for (const Observer* o : {&o2, &o10})
-    for (const auto& c : o->cmf) {
-      ASSERT_EQ(c.size(), 471u);  // 360..830 nm at 1 nm
-      for (double v : c) {
-        EXPECT_GE(v, 0.0);  // colour-matching functions are non-negative
-      }
-    }
-  // Published CIE table values (CIE 015:2018 tables; exact in the data, so 1e-12).
-  EXPECT_NEAR(o2.cmf[1][at(555)], 1.0, 1e-12);  // ybar peaks at 555 nm with value 1
-  EXPECT_NEAR(o2.cmf[0][at(600)], 1.0622, 1e-12);
-  EXPECT_NEAR(o2.cmf[2][at(445)], 1.7826, 1e-12);
-  EXPECT_NEAR(o10.cmf[1][at(555)], 0.99911, 1e-12);
-  EXPECT_NEAR(o10.cmf[0][at(600)], 1.12399, 1e-12);
-  // Aliases resolve to the same cached tables.
-  EXPECT_EQ(&Observer::get("CIE1931"), &o2);
-  EXPECT_EQ(&Observer::get("cie1964_10"), &o10);
-}
-
-TEST(Observer, YIntegralIsPbrtsConstant) {
-  const Observer& o2 = Observer::get("cie1931");
-  // pbrt-v4's CIE_Y_integral = 106.856895 (sum of ybar on the 1 nm table); 1e-3 covers the
-  // trapezoid's halved end points (ybar there is ~4e-6).
-  EXPECT_NEAR(o2.y_integral, 106.856895, 1e-3);
-  // And it is K = sum tau ybar as docs/DESIGN.md §3 defines it, to summation rounding.
-  for (const char* name : {"cie1931", "cie1964"}) {
-    const Observer& o = Observer::get(name);
-    EXPECT_NEAR(o.y_integral, test::y_integral(o), 1e-12 * o.y_integral) << name;
-  }
-}
-
-TEST(Observer, UnknownNameListsTheValidOnes) {
-  expect_error_mentioning([] { (void)Observer::get("cie2006"); }, {"cie2006", "cie1931", "cie1964"},
-                          "unknown observer");
-}
-
-// --- Illuminants ---
-
-TEST(Illuminant, StandardIlluminantsLoadOnTheReferenceTable) {
-  for (const char* name : {"D65", "D50", "A", "E", "C", "FL2", "FL11", "D55"}) {
-    SCOPED_TRACE(name);
-    Illuminant il = Illuminant::get(name);
-    ASSERT_EQ(il.spd.size(), 471u);
-    for (double v : il.spd) {
-      EXPECT_TRUE(std::isfinite(v));
-      EXPECT_GE(v, 0.0);  // a spectral power distribution is non-negative
-    }
-  }
-  EXPECT_EQ(Illuminant::get("d65").name, "D65");  // names are case-insensitive
-}
-
-TEST(Illuminant, TablesAreNormalisedTo100At560nm) {
-  // CIE normalisation of D65, D50 and A: 100 at 560 nm (exact in the 1 nm tables, so 1e-6).
-  for (const char* name : {"D65", "D50", "A"}) {
-    EXPECT_NEAR(Illuminant::get(name).spd[at(560)], 100.0, 1e-6) << name;
-  }
-  // E is equal energy.
-  for (double v : Illuminant::get("E").spd) {
-    EXPECT_EQ(v, Illuminant::get("E").spd[0]);
-  }
-}
-
-TEST(Illuminant, ChromaticitiesMatchCie015) {
-  const Observer& o2 = Observer::get("cie1931");
-  struct Case {
-    const char* name;
-    double x, y, tol;
-  } cases[] = {
-      // CIE 015:2018 Table T.3 / T.8 values (CIE 1931 2°). 1e-4 for the 1 nm tables (the
-      // published values are rounded to 5 digits); 2e-4 for D55 (built here from S0..S2 at 5 nm,
-      // interpolated to 1 nm, which shifts the 5th digit) and for C (5 nm table).
-      {"D65", 0.31272, 0.32903, 1e-4}, {"A", 0.44757, 0.40745, 1e-4},
-      {"D50", 0.34567, 0.35850, 1e-4}, {"E", 1.0 / 3, 1.0 / 3, 1e-4},
-      {"D55", 0.33242, 0.34743, 2e-4}, {"C", 0.31006, 0.31616, 2e-4},
-  };
-  for (const auto& c : cases) {
-    auto xy = chromaticity(illuminant_xyz(o2, Illuminant::get(c.name)));
-    EXPECT_NEAR(xy[0], c.x, c.tol) << c.name;
-    EXPECT_NEAR(xy[1], c.y, c.tol) << c.name;
-  }
-  // 10° observer: D65 is (0.31382, 0.33100) (CIE 015:2018 Table T.3).
-  auto xy10 = chromaticity(illuminant_xyz(Observer::get("cie1964"), Illuminant::get("D65")));
-  EXPECT_NEAR(xy10[0], 0.31382, 1e-4);
-  EXPECT_NEAR(xy10[1], 0.33100, 1e-4);
-}
-
-TEST(Illuminant, UnknownNameListsTheValidOnes) {
-  expect_error_mentioning([] { (void)Illuminant::get("D99x"); }, {"D99x", "D65", "FL2"},
-                          "unknown illuminant");
-  expect_error_mentioning([] { (void)Illuminant::get("D30"); }, {"D40"}, "daylight below 4000 K");
-}
 
 // --- piecewise_linear ---
 

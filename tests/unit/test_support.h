@@ -59,6 +59,13 @@ inline Mat3 inverse(const Mat3& m) {
   return r;
 }
 
+/// The matrix as the core's row-major frame (m[3 * row + column], core/mat3.h).
+inline std::array<double, 9> frame_of(const Mat3& m) {
+  std::array<double, 9> f;
+  for (int i = 0; i < 9; ++i) f[i] = m[i / 3][i % 3];
+  return f;
+}
+
 /// m . (r, g, b): the XYZ of an RGB colour.
 inline Xyz rgb(const Mat3& m, double r, double g, double b) {
   return mul(m, Xyz{r, g, b});
@@ -170,6 +177,18 @@ inline Xyz reference_xyz(const WavelengthGrid& grid, std::span<const double> val
   EXPECT_EQ(values.size(), grid.size());
   return (1.0 / reference_norm(grid, obs, illuminant)) *
          raw_integral(grid.start(), grid.step(), values, obs, illuminant);
+}
+
+/// XYZ of an illuminant itself (a light with that SPD), integrated on the full 1 nm table
+/// (un-normalised).
+inline Xyz illuminant_xyz(const Observer& obs, const Illuminant& il) {
+  Xyz s;
+  for (int nm = 360; nm <= 830; ++nm) {
+    const std::size_t k = static_cast<std::size_t>(nm - 360);
+    const double tau = (nm == 360 || nm == 830) ? 0.5 : 1.0;
+    for (int c = 0; c < 3; ++c) s[c] += tau * obs.cmf[c][k] * il.spd[k];
+  }
+  return s;
 }
 
 /// Chromaticity (x, y) of an XYZ.
