@@ -1,7 +1,11 @@
-// The settings schema (settings/settings.h) against independent truths: for every setting, a value
-// that changes the spectra (found by computing spectra, not by asking the schema) must change
-// the node cache's key and show in the report's settings and the EXR attributes; every setting
-// refuses an empty value and its own invalid example; canonical texts parse back to themselves.
+// The settings schema and its functions (settings/settings.h) against independent truths: for
+// every setting, a value that changes the spectra (found by computing spectra, not by asking the
+// schema) must change the node cache's key, show in the report's settings and the EXR
+// attributes, and change the settings a written file records (file_settings); how a job runs
+// never does; every setting refuses an empty value and its own invalid example; canonical texts
+// parse back to themselves; each key and flag finds its setting and nothing else does; the value
+// recorded for the mode is the mode resolved, never "auto"; a command's description holds only
+// the settings that apply to it and matter.
 
 #include <gtest/gtest.h>
 
@@ -160,6 +164,151 @@ TEST(SettingsSchema, FlagsMapToTheirCommands) {
   EXPECT_EQ(find_setting_for_flag("--colorconfig", kColor)->key, "config");
   EXPECT_NE(flag_commands("--threads") & kImage, 0u);
   EXPECT_EQ(flag_commands("--threads") & kColor, 0u);
+}
+
+TEST(SettingsSchema, EveryKeyFindsItsSettingAndNothingElseDoes) {
+  for (const SettingSpec& spec : settings_schema()) EXPECT_EQ(find_setting(spec.key), &spec);
+  // Flags, other spellings and unknown words are not keys.
+  for (const char* word : {"", "--mode", "Mode", "mode ", "emission-basis", "nosuchsetting"})
+    EXPECT_EQ(find_setting(word), nullptr) << word;
+}
+
+TEST(SettingsSchema, ModesAndPlotScalesAreSpelledAsTheirSettingsParseThem) {
+  const SettingSpec& mode = *find_setting("mode");
+  for (const auto& [m, text] : {std::pair{ModeChoice::automatic, "auto"},
+                                {ModeChoice::emission, "emission"},
+                                {ModeChoice::reflectance, "reflectance"}}) {
+    EXPECT_EQ(to_string(m), text);
+    Settings s;
+    s.mode = m == ModeChoice::emission ? ModeChoice::reflectance : ModeChoice::emission;
+    apply_setting(s, mode, to_string(m), "--mode");
+    EXPECT_EQ(s.mode, m) << text;
+  }
+  const SettingSpec& scale = *find_setting("plot_scale");
+  for (const auto& [p, text] : {std::pair{PlotScale::linear, "linear"},
+                                {PlotScale::log, "log"},
+                                {PlotScale::normalized, "normalized"}}) {
+    EXPECT_EQ(to_string(p), text);
+    Settings s;
+    s.plot_scale = p == PlotScale::log ? PlotScale::linear : PlotScale::log;
+    apply_setting(s, scale, to_string(p), "--plot-scale");
+    EXPECT_EQ(s.plot_scale, p) << text;
+  }
+}
+
+TEST(SettingsSchema, TheModeRecordedIsTheModeResolvedNeverAuto) {
+  const SettingSpec& mode = *find_setting("mode");
+  Settings s;  // asked: auto
+  for (const Mode resolved : {Mode::emission, Mode::reflectance}) {
+    s.spectral.mode = resolved;
+    const std::string want = resolved == Mode::emission ? "emission" : "reflectance";
+    EXPECT_EQ(mode.format(s), "auto");  // what was asked
+    EXPECT_EQ(setting_value(mode, s), want);
+    for (const auto& [key, value] : describe_settings(s, kImage))
+      if (key == "mode") {
+        EXPECT_EQ(value, want);
+      }
+    for (const auto& [spec, value] : file_settings(s))
+      if (spec->key == "mode") {
+        EXPECT_EQ(value, want);
+      }
+  }
+  // Every other setting's recorded value is its canonical text.
+  for (const SettingSpec& spec : settings_schema())
+    if (spec.key != "mode") {
+      EXPECT_EQ(setting_value(spec, s), spec.format(s)) << spec.key;
+    }
+}
+
+// What shapes a spectrum physically: its grid, the observer, the model, the mode, and the
+// illuminant of a reflectance or the basis of an emission. Each is recorded in a written file.
+TEST(SettingsSchema, WhatShapesTheSpectraChangesTheSettingsAFileRecords) {
+  for (const ModeChoice mode : {ModeChoice::emission, ModeChoice::reflectance}) {
+    Settings base;
+    base.mode = mode;
+    resolve_mode(base);
+    const auto base_file = file_settings(base);
+    std::vector<std::pair<std::string, std::string>> changes = {
+        {"wavelengths", "400:700:10"},
+        {"observer", "cie1964"},
+        {"model", "smooth"},
+        {"mode", mode == ModeChoice::emission ? "reflectance" : "emission"}};
+    changes.emplace_back(mode == ModeChoice::emission ? std::pair{"emission_basis", "D65"}
+                                                      : std::pair{"illuminant", "A"});
+    for (const auto& [key, value] : changes) {
+      SCOPED_TRACE(key + " from " + std::string(to_string(mode)));
+      Settings alt = base;
+      apply_setting(alt, *find_setting(key), value, key);
+      resolve_mode(alt);
+      EXPECT_NE(file_settings(alt), base_file);
+    }
+  }
+}
+
+TEST(SettingsSchema, HowAJobRunsAndWhereItsOutputsGoNeverChangeWhatAFileRecords) {
+  Settings base;
+  resolve_mode(base);
+  const auto base_file = file_settings(base);
+  const std::string base_key = table_cache_key(base, "layout");
+  for (const char* key : {"threads", "jobs", "cache", "config", "name_pattern", "data"}) {
+    Settings alt = base;
+    apply_setting(alt, *find_setting(key), kExamples.at(key).first, key);
+    EXPECT_EQ(file_settings(alt), base_file) << key;
+    EXPECT_EQ(table_cache_key(alt, "layout"), base_key) << key;
+  }
+  // What shapes the written file but not its spectra is recorded too: samples, compression,
+  // tiles.
+  for (const char* key : {"format", "compression", "tile"}) {
+    Settings alt = base;
+    apply_setting(alt, *find_setting(key), kExamples.at(key).first, key);
+    EXPECT_NE(file_settings(alt), base_file) << key;
+  }
+  // In schema order.
+  std::size_t last = 0;
+  for (const auto& [spec, value] : file_settings(base)) {
+    const std::size_t at = static_cast<std::size_t>(spec - settings_schema().data());
+    EXPECT_GE(at, last) << spec->key;
+    last = at;
+  }
+  // The node table's layout is part of the cache key.
+  EXPECT_NE(table_cache_key(base, "other layout"), base_key);
+  EXPECT_EQ(table_cache_key(base, "layout"), base_key);
+}
+
+TEST(SettingsSchema, ACommandsDescriptionHoldsWhatAppliesToItAndMatters) {
+  Settings s;
+  resolve_mode(s);  // emission: the illuminant does not matter
+  auto keys = [](const std::vector<std::pair<std::string, std::string>>& d) {
+    std::set<std::string> out;
+    for (const auto& [k, v] : d) out.insert(k);
+    return out;
+  };
+  const auto image = keys(describe_settings(s, kImage));
+  EXPECT_TRUE(image.count("wavelengths"));
+  EXPECT_TRUE(image.count("format"));
+  EXPECT_FALSE(image.count("print_format"));  // --color's --format
+  EXPECT_FALSE(image.count("reflected"));     // --to-rgb's
+  EXPECT_FALSE(image.count("illuminant"));    // emission
+  EXPECT_FALSE(image.count("colorspace"));    // not given: decided per file
+  const auto to_rgb = keys(describe_settings(s, kToRgb));
+  EXPECT_TRUE(to_rgb.count("reflected"));
+  EXPECT_FALSE(to_rgb.count("wavelengths"));  // the file's own grid
+  const auto color = keys(describe_settings(s, kColor));
+  EXPECT_TRUE(color.count("print_format"));
+  EXPECT_FALSE(color.count("format"));
+  s.spectral.mode = Mode::reflectance;
+  s.colorspace = "ACEScg";
+  const auto reflective = keys(describe_settings(s, kImage));
+  EXPECT_TRUE(reflective.count("illuminant"));
+  EXPECT_TRUE(reflective.count("colorspace"));
+  EXPECT_FALSE(reflective.count("emission_basis"));  // emission only
+  // The spectral subset: the settings the spectra depend on, none of how files are written.
+  const auto spectral = keys(describe_settings(s, kImage, true));
+  for (const std::string& k : spectral) EXPECT_TRUE(reflective.count(k)) << k;
+  for (const char* k : {"wavelengths", "observer", "illuminant", "model", "mode"})
+    EXPECT_TRUE(spectral.count(k)) << k;
+  for (const char* k : {"format", "compression", "tile", "colorspace", "threads", "method"})
+    EXPECT_FALSE(spectral.count(k)) << k;
 }
 
 }  // namespace
