@@ -1,7 +1,8 @@
 #pragma once
 // Spectralizers and their node tables shared by every file of a batch (docs/DESIGN.md §4): one
-// table per combination of the settings the spectra depend on, loaded once from the --cache
-// folder and saved once at the end, merged with what other processes saved meanwhile.
+// table per combination of the settings the spectra depend on and the --cache folder, loaded
+// once from that folder and saved once at the end, merged with what other processes saved
+// meanwhile.
 
 #include <cstdint>
 #include <map>

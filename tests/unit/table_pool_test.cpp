@@ -3,7 +3,8 @@
 // depend on (mode, wavelengths, illuminant, method, a reflectance's frame) get their own, and an
 // emission table, whose cells are CIE xy, is one for every frame; with a cache folder an entry
 // loads its file once, saves only what grew, merges what other processes saved meanwhile, and
-// reports an unusable folder or file instead of failing. Oracles: the nodes each case computes,
+// reports an unusable folder or file instead of failing; a table first made without a folder
+// does not stand in for settings that ask for one later. Oracles: the nodes each case computes,
 // counted by a table of its own, and the files in the folder.
 
 #include "pipeline/table_pool.h"
@@ -243,6 +244,22 @@ TEST(TablePool, ADamagedCacheFileIsSaidAndRebuilt) {
   EXPECT_TRUE(pool.save().empty());  // and written anew
   TablePool again;
   EXPECT_EQ(again.get(s, kRec709Frame, kQuiet).cache_status, "loaded");
+}
+
+TEST(TablePool, ATableFirstMadeWithoutACacheFolderStillUsesOneAskedLater) {
+  // One process, two calls: without cache, then with it (the Python module's pool lives as long
+  // as the process). The second call's folder must be the one loaded and saved.
+  test::TempDir t("table_pool");
+  TablePool pool;
+  const Settings plain = settings_of();
+  Settings cached = plain;
+  cached.cache_dir = t.dir.string();
+  use(pool.get(plain, kRec709Frame, kQuiet), kReds);
+  TablePool::Entry& e = pool.get(cached, kRec709Frame, kQuiet);
+  EXPECT_EQ(fs::path(e.cache_file).parent_path(), t.dir);
+  use(e, kBlues);
+  EXPECT_TRUE(pool.save().empty());
+  EXPECT_FALSE(fs::is_empty(t.dir));
 }
 
 }  // namespace
