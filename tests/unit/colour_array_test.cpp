@@ -66,20 +66,12 @@ std::vector<double> spectrum_of(const std::vector<float>& out, std::size_t bands
                              out.begin() + static_cast<std::ptrdiff_t>((p + 1) * bands));
 }
 
-// The XYZ of a spectrum on the settings' grid by the reference integration.
 Xyz integrated(const Settings& s, const std::vector<double>& values) {
-  const Observer& obs = Observer::get(s.spectral.observer);
-  if (s.spectral.mode == Mode::emission)
-    return test::reference_xyz(s.spectral.grid, values, obs, nullptr);
-  const Illuminant e = Illuminant::get(s.spectral.illuminant);
-  return test::reference_xyz(s.spectral.grid, values, obs, &e.spd);
+  return test::reference_xyz(s.spectral, values);
 }
 
-// The reference white (rho == 1) over the D65 white: the white balance of a reflectance.
 Xyz balance(const Settings& s) {
-  const Xyz w = integrated(s, std::vector<double>(s.spectral.grid.size(), 1.0));
-  const Xyz d65 = test::d65_white();
-  return {w.X / d65.X, w.Y / d65.Y, w.Z / d65.Z};
+  return test::white_balance(s.spectral);
 }
 
 double srgb_decode(double v) {

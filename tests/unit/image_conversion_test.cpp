@@ -102,17 +102,11 @@ Converted run(ImageConversion& conversion, const std::vector<float>& in, std::si
 }
 
 Xyz integrated(const Settings& s, const std::vector<double>& values) {
-  const Observer& obs = Observer::get(s.spectral.observer);
-  if (s.spectral.mode == Mode::emission)
-    return test::reference_xyz(s.spectral.grid, values, obs, nullptr);
-  const Illuminant e = Illuminant::get(s.spectral.illuminant);
-  return test::reference_xyz(s.spectral.grid, values, obs, &e.spd);
+  return test::reference_xyz(s.spectral, values);
 }
 
 Xyz balance(const Settings& s) {
-  const Xyz w = integrated(s, std::vector<double>(s.spectral.grid.size(), 1.0));
-  const Xyz d65 = test::d65_white();
-  return {w.X / d65.X, w.Y / d65.Y, w.Z / d65.Z};
+  return test::white_balance(s.spectral);
 }
 
 Xyz rec709(const std::array<float, 3>& c) {

@@ -66,12 +66,7 @@ Mat3 flat(const test::Mat3& m) {
 }
 
 std::string message_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
+  return test::error_message(fn);
 }
 
 // OCIO's float processors: 1e-6 of the matrices' 0..1 entries, with room.
