@@ -10,7 +10,8 @@ namespace fs = std::filesystem;
 
 namespace spectralize {
 
-TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log) {
+TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log,
+                                 const std::string& cache_option) {
   // The table's layout follows from the same settings and the frame: they find the entry again
   // without building a spectralizer.
   std::string seen = table_cache_key(s, "") + "; method " +
@@ -52,7 +53,7 @@ TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const Log
                                 : "rebuilt: " + why;
       if (!why.empty()) log(0, "cache '" + entry->cache_file + "' ignored and rebuilt: " + why);
     } else {
-      log(0, "--cache '" + s.cache_dir +
+      log(0, cache_option + " '" + s.cache_dir +
                  "': not a folder that can be created; running without a persistent cache");
     }
   }

@@ -411,6 +411,30 @@ TEST(ImageConversion, ConversionsSharingAPoolShareItsTableAndLeaveTheSavingToIt)
   EXPECT_TRUE(fs::exists(first.report().cache_file));
 }
 
+TEST(ImageConversion, APoolsUnusableCacheFolderIsSaidInTheCallersSpellingToo) {
+  test::TempDir t("image_conversion");
+  std::ofstream(t / "file") << "x";
+  const OIIO::ImageSpec spec = test::spec_of({"R", "G", "B"}, OIIO::TypeFloat, 1, 1);
+  Settings s = settings_of(ModeChoice::emission);
+  s.cache_dir = t / "file";
+  for (const OptionNames& names : {kFlags, kKeywords}) {
+    SCOPED_TRACE(names.prefix);
+    TablePool pool;
+    ConversionContext context;
+    context.pool = &pool;
+    std::vector<std::string> logged;
+    ImageConversion conversion(
+        plan_of(s, spec, names), spec, "openexr", false,
+        [&](int level, const std::string& m) {
+          if (level == 0) logged.push_back(m);
+        },
+        context);
+    EXPECT_TRUE(conversion.report().cache_file.empty());
+    ASSERT_EQ(logged.size(), 1u) << ::testing::PrintToString(logged);
+    EXPECT_EQ(logged[0].rfind(names("cache") + " '" + s.cache_dir + "'", 0), 0u) << logged[0];
+  }
+}
+
 // --- Refusals ---
 
 TEST(ImageConversion, APlanNotDecidedForAnRgbInputIsRefused) {
