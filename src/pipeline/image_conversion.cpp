@@ -67,7 +67,7 @@ ImageConversion::ImageConversion(const JobPlan& plan, const OIIO::ImageSpec& spe
   Parts& p = *parts_;
   const Mat3 frame = table_frame(spaces, in.colorspace);
   if (TablePool* pool = context.pool) {
-    TablePool::Entry& e = pool->get(s, frame, log);
+    TablePool::Entry& e = pool->get(s, frame, log, p.names("cache"));
     p.spectralizer = e.spectralizer.get();
     p.table = e.table.get();
     p.shared = true;

@@ -153,7 +153,8 @@ void SpectralConverter::convert(const float* in, std::size_t n, float* out) {
           Xyz x{rgb[k * 3], rgb[k * 3 + 1], rgb[k * 3 + 2]};
           const bool premultiply = has_alpha && (s_.straight_alpha || alpha[k] > 0);
           if (!reflectance && premultiply) x = static_cast<double>(alpha[k]) * x;
-          if (reflectance && s_.spectralizer.target_of(x).Y > white_y_ * (1 + 1e-6))
+          // A NaN or infinite colour is invalid (the zero spectrum), never dimmed.
+          if (reflectance && x.finite() && s_.spectralizer.target_of(x).Y > white_y_ * (1 + 1e-6))
             ++c.brighter_than_white;
           colours[k] = x;
         }

@@ -10,7 +10,8 @@ namespace fs = std::filesystem;
 
 namespace spectralize {
 
-TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log) {
+TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const LogFn& log,
+                                 const std::string& cache_option) {
   // The table's layout follows from the same settings and the frame: they find the entry again
   // without building a spectralizer.
   std::string seen = table_cache_key(s, "") + "; method " +
@@ -26,8 +27,12 @@ TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const Log
   auto table = std::make_unique<SpectralTable>(*spectralizer, s.method, frame);
   const std::string key = table_cache_key(s, table->layout()) +
                           (s.method == SpectralTable::Method::exact ? "; exact" : "");
+  // One entry per cache folder too: a table made without a folder (or for another one) must not
+  // stand in for settings that ask for one, or that folder is never loaded nor saved.
+  const std::string entry_key =
+      key + (s.method == SpectralTable::Method::table ? "; cache " + s.cache_dir : "");
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = entries_.find(key);
+  auto it = entries_.find(entry_key);
   if (it != entries_.end()) {
     seen_[seen] = it->second.get();
     return *it->second;
@@ -48,12 +53,12 @@ TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const Log
                                 : "rebuilt: " + why;
       if (!why.empty()) log(0, "cache '" + entry->cache_file + "' ignored and rebuilt: " + why);
     } else {
-      log(0, "--cache '" + s.cache_dir +
+      log(0, cache_option + " '" + s.cache_dir +
                  "': not a folder that can be created; running without a persistent cache");
     }
   }
   Entry& ref = *entry;
-  entries_[key] = std::move(entry);
+  entries_[entry_key] = std::move(entry);
   seen_[seen] = &ref;
   return ref;
 }

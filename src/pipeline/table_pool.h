@@ -1,7 +1,8 @@
 #pragma once
 // Spectralizers and their node tables shared by every file of a batch (docs/DESIGN.md §4): one
-// table per combination of the settings the spectra depend on, loaded once from the --cache
-// folder and saved once at the end, merged with what other processes saved meanwhile.
+// table per combination of the settings the spectra depend on and the --cache folder, loaded
+// once from that folder and saved once at the end, merged with what other processes saved
+// meanwhile.
 
 #include <cstdint>
 #include <map>
@@ -20,15 +21,17 @@ class TablePool {
  public:
   /// The shared spectralizer and table for these settings (mode resolved) in the RGB frame of
   /// the input's colour space (pipeline/render_table.h table_frame), with its cache file and
-  /// status; built (and loaded from settings.cache_dir) on first use. Thread-safe. Cost: ~1 ms plus
-  /// loading the cache file the first time, O(log tables) after.
+  /// status; built (and loaded from settings.cache_dir) on first use. Messages name the folder's
+  /// option as `cache_option` ("--cache" on the command line, "cache" in Python). Thread-safe.
+  /// Cost: ~1 ms plus loading the cache file the first time, O(log tables) after.
   struct Entry {
     std::unique_ptr<Spectralizer> spectralizer;
     std::unique_ptr<SpectralTable> table;
     std::string key, file_key, cache_file, cache_status;
     std::uint64_t saved_computed = 0;  // nodes_computed at the last save
   };
-  Entry& get(const Settings& settings, const Mat3& frame, const LogFn& log);
+  Entry& get(const Settings& settings, const Mat3& frame, const LogFn& log,
+             const std::string& cache_option = "--cache");
 
   /// Saves every table that grew since it was loaded or last saved to its cache file (merged
   /// with the file's current nodes, so concurrent batches on one folder add up). Returns the

@@ -286,6 +286,21 @@ TEST(SpectralConverter, EveryPixelIsCountedByKind) {
   EXPECT_EQ(k.converter->counts().black, 2u);
 }
 
+TEST(SpectralConverter, AnInfiniteReflectanceIsInvalidNotBrighterThanWhite) {
+  // Written as the zero spectrum, so not "dimmed into the reflectance solid": one count, one
+  // warning (pipeline/image_report.h count_warnings).
+  Kernel k(Mode::reflectance, false, false, false);
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> out = k.run({0.2f, inf, 0.1f, inf, inf, inf, 2, 2, 2});
+  const PixelCounts c = k.converter->counts();
+  EXPECT_EQ(c.invalid, 2u);
+  EXPECT_EQ(c.brighter_than_white, 1u);  // only (2, 2, 2)
+  for (std::size_t p : {0u, 1u})
+    for (double v : k.spectrum(out, p)) {
+      EXPECT_EQ(v, 0.0) << "pixel " << p;
+    }
+}
+
 TEST(SpectralConverter, HalfOutputIsRoundedAndClampedToHalf) {
   // The bands are HALF values (the error is measured on what is written); every channel,
   // previews too, is within HALF's range.

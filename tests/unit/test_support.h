@@ -14,6 +14,7 @@
 
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
+#include "spectralize/core/spectralizer.h"
 #include "spectralize/core/wavelength_grid.h"
 #include "spectralize/core/xyz.h"
 
@@ -191,6 +192,24 @@ inline Xyz illuminant_xyz(const Observer& obs, const Illuminant& il) {
   return s;
 }
 
+/// The XYZ of a spectrum on `s`'s grid by the reference integration: emission, or a reflectance
+/// under `s`'s reference illuminant (rho == 1 at Y = 1).
+inline Xyz reference_xyz(const SpectralizerSettings& s, std::span<const double> values) {
+  const Observer& obs = Observer::get(s.observer);
+  if (s.mode == Mode::emission) return reference_xyz(s.grid, values, obs, nullptr);
+  const Illuminant e = Illuminant::get(s.illuminant);
+  return reference_xyz(s.grid, values, obs, &e.spd);
+}
+
+/// The white balance of a reflectance (docs/DESIGN.md §3), per component: the reference white
+/// (rho == 1 on `s`'s grid under its illuminant) over the D65 white.
+inline Xyz white_balance(const SpectralizerSettings& s) {
+  const std::vector<double> ones(s.grid.size(), 1.0);
+  const Xyz w = reference_xyz(s, ones);
+  const Xyz d65 = d65_white();
+  return {w.X / d65.X, w.Y / d65.Y, w.Z / d65.Z};
+}
+
 /// Chromaticity (x, y) of an XYZ.
 inline std::array<double, 2> chromaticity(const Xyz& c) {
   return {c.X / c.sum(), c.Y / c.sum()};
@@ -209,6 +228,17 @@ inline double rel_err(std::span<const double> a, std::span<const double> b) {
     scale = std::max(scale, std::abs(b[i]));
   }
   return diff / scale;
+}
+
+/// The message of the spectralize::Error `fn` throws, or "" when it throws none.
+template <typename Fn>
+std::string error_message(Fn&& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 /// Runs `fn`, expects spectralize::Error whose message contains every one of `words`.

@@ -1,0 +1,269 @@
+// The render-time table of a colour space (pipeline/render_table.h, docs/DESIGN.md §14): a
+// space's primaries matrix is the normalised primary matrix of its published primaries and
+// white (encoded spaces too: 0 and 1 survive any transfer curve), data spaces have none; the
+// table's frame is that matrix for D65 spaces, else Linear Rec.709's; only a linear space is
+// a matrix space; plan_table refuses what a table cannot be made for, naming the option as the
+// caller spells it and, for an encoded space, the linear space with its primaries; a small
+// table's bytes depend on the settings only and its spectra, read back through the render-time
+// evaluator, integrate to their colours. Oracles: the matrices derived from the primaries in
+// tests/unit/test_support.h, the reference integration there, and <spectralize/rt.hpp> reading
+// the bytes.
+
+#include "pipeline/render_table.h"
+
+#include <gtest/gtest.h>
+
+#include <spectralize/rt.hpp>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "file_test_support.h"
+#include "spectralize/core/error.h"
+#include "test_support.h"
+
+namespace spectralize {
+namespace {
+
+const std::string kRec709 = "Linear Rec.709 (sRGB)";
+const OptionNames kFlags{"--", "-o"};
+const OptionNames kKeywords{"", "output"};
+const LogFn kQuiet = [](int, const std::string&) {};
+
+const ColourSpaces& spaces() {
+  static const ColourSpaces s = ColourSpaces::load();
+  return s;
+}
+
+// The normalised primary matrices of the spaces' published primaries and D65 white.
+test::Mat3 rec709() {
+  return test::rgb_to_xyz(0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290);
+}
+test::Mat3 rec2020() {
+  return test::rgb_to_xyz(0.708, 0.292, 0.170, 0.797, 0.131, 0.046, 0.3127, 0.3290);
+}
+test::Mat3 p3_d65() {
+  return test::rgb_to_xyz(0.680, 0.320, 0.265, 0.690, 0.150, 0.060, 0.3127, 0.3290);
+}
+test::Mat3 adobe_rgb() {
+  return test::rgb_to_xyz(0.64, 0.33, 0.21, 0.71, 0.15, 0.06, 0.3127, 0.3290);
+}
+
+double max_diff(const Mat3& got, const test::Mat3& want) {
+  double d = 0;
+  for (int i = 0; i < 9; ++i) d = std::max(d, std::abs(got[i] - want[i / 3][i % 3]));
+  return d;
+}
+
+Mat3 flat(const test::Mat3& m) {
+  Mat3 f;
+  for (int i = 0; i < 9; ++i) f[i] = m[i / 3][i % 3];
+  return f;
+}
+
+std::string message_of(const std::function<void()>& fn) {
+  return test::error_message(fn);
+}
+
+// OCIO's float processors: 1e-6 of the matrices' 0..1 entries, with room.
+constexpr double kMatrixTolerance = 1e-5;
+
+TEST(RenderTable, APrimariesMatrixIsTheSpacesPublishedPrimariesAndWhite) {
+  const std::pair<std::string, test::Mat3> cases[] = {
+      {kRec709, rec709()},
+      {"sRGB - Texture", rec709()},  // encoded: 0 and 1 survive the curve
+      {"Gamma 2.2 Rec.709 - Texture", rec709()},
+      {"Linear Rec.2020", rec2020()},
+      {"Linear P3-D65", p3_d65()},
+      {"Display P3 - Texture", p3_d65()},
+      {"Linear Adobe RGB (1998)", adobe_rgb()},
+      {"ACEScg", test::acescg_to_xyz_d65()},  // AP1, its white Bradford-adapted to D65
+      {"CIE-XYZ-D65", {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}},
+  };
+  for (const auto& [space, want] : cases) {
+    SCOPED_TRACE(space);
+    const std::optional<Mat3> m = primaries_matrix(spaces(), space);
+    ASSERT_TRUE(m.has_value());
+    EXPECT_LT(max_diff(*m, want), kMatrixTolerance);
+  }
+  // The written-out Rec.709 and Rec.2020 matrices agree with their primaries (the oracle).
+  EXPECT_LT(max_diff(flat(test::kRec709ToXyz), rec709()), 1e-4);
+  EXPECT_LT(max_diff(flat(test::kRec2020ToXyz), rec2020()), 1e-4);
+}
+
+TEST(RenderTable, DataSpacesHaveNoPrimariesMatrixAndUnknownOnesAreRefused) {
+  EXPECT_FALSE(primaries_matrix(spaces(), "Raw").has_value());
+  EXPECT_THROW(primaries_matrix(spaces(), "no such space"), Error);
+}
+
+TEST(RenderTable, TheTableFrameIsTheSpacesMatrixWhenItsWhiteIsD65) {
+  EXPECT_LT(max_diff(table_frame(spaces(), "Linear Rec.2020"), rec2020()), kMatrixTolerance);
+  EXPECT_LT(max_diff(table_frame(spaces(), "sRGB - Texture"), rec709()), kMatrixTolerance);
+  EXPECT_LT(max_diff(table_frame(spaces(), "ACEScg"), test::acescg_to_xyz_d65()), kMatrixTolerance);
+  // White E (XYZ (1, 1, 1) is not D65), data and unknown spaces: Linear Rec.709's frame.
+  for (const char* space : {"CIE-XYZ-D65", "Raw", "no such space"}) {
+    SCOPED_TRACE(space);
+    EXPECT_LT(max_diff(table_frame(spaces(), space), rec709()), kMatrixTolerance);
+  }
+}
+
+TEST(RenderTable, OnlyALinearSpaceIsAMatrixSpace) {
+  EXPECT_TRUE(is_matrix_space(spaces(), kRec709, flat(rec709())));
+  EXPECT_TRUE(is_matrix_space(spaces(), "Linear Rec.2020", flat(rec2020())));
+  EXPECT_TRUE(is_matrix_space(spaces(), "ACEScg", flat(test::acescg_to_xyz_d65())));
+  // A curve shows between 0 and 1 (and beyond).
+  EXPECT_FALSE(is_matrix_space(spaces(), "sRGB - Texture", flat(rec709())));
+  EXPECT_FALSE(is_matrix_space(spaces(), "Gamma 2.2 Rec.709 - Texture", flat(rec709())));
+  const std::optional<Mat3> cct = primaries_matrix(spaces(), "ACEScct");
+  ASSERT_TRUE(cct.has_value());
+  EXPECT_FALSE(is_matrix_space(spaces(), "ACEScct", *cct));
+  // A linear space with another space's matrix is not that matrix.
+  EXPECT_FALSE(is_matrix_space(spaces(), kRec709, flat(rec2020())));
+}
+
+TEST(RenderTable, APlanIsForALinearSpaceAndASpztabAndAutoIsAReflectance) {
+  Settings s;
+  const JobPlan plan = plan_table(s, "srgb.spztab", kFlags);
+  EXPECT_EQ(plan.settings.colorspace, kRec709);  // the config's scene_linear role
+  EXPECT_EQ(plan.settings.spectral.mode, Mode::reflectance);
+  EXPECT_EQ(plan_table(s, "dir/T.SPZTAB", kFlags).settings.spectral.mode, Mode::reflectance);
+  s.mode = ModeChoice::emission;
+  s.colorspace = "ACEScg";
+  const JobPlan lights = plan_table(s, "acescg.spztab", kFlags);
+  EXPECT_EQ(lights.settings.spectral.mode, Mode::emission);
+  EXPECT_EQ(lights.settings.colorspace, "ACEScg");
+  // Not a .spztab: refused naming the output as the caller spells it.
+  const std::string cli = message_of([] { plan_table(Settings{}, "t.exr", kFlags); });
+  EXPECT_EQ(cli.rfind("-o 't.exr'", 0), 0u) << cli;
+  EXPECT_NE(cli.find("NAME.spztab"), std::string::npos) << cli;
+  const std::string python = message_of([] { plan_table(Settings{}, "t.spz", kKeywords); });
+  EXPECT_EQ(python.rfind("output 't.spz'", 0), 0u) << python;
+}
+
+TEST(RenderTable, AnEncodedSpaceIsRefusedNamingTheLinearSpaceWithItsPrimaries) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"sRGB - Texture", kRec709},
+      {"Gamma 2.2 Rec.709 - Texture", kRec709},
+      {"Display P3 - Texture", "Linear P3-D65"},
+      {"Adobe RGB (1998) - Texture", "Linear Adobe RGB (1998)"},
+      {"ACEScct", "ACEScg"}};
+  for (const auto& [encoded, linear] : cases) {
+    SCOPED_TRACE(encoded);
+    Settings s;
+    s.colorspace = encoded;
+    const std::string cli = message_of([&] { plan_table(s, "t.spztab", kFlags); });
+    EXPECT_EQ(cli.rfind("--colorspace '" + encoded + "': not linear RGB", 0), 0u) << cli;
+    EXPECT_NE(cli.find("use '" + linear + "', the linear space with its primaries"),
+              std::string::npos)
+        << cli;
+    const std::string python = message_of([&] { plan_table(s, "t.spztab", kKeywords); });
+    EXPECT_EQ(python.rfind("colorspace '" + encoded + "'", 0), 0u) << python;
+  }
+}
+
+TEST(RenderTable, ADataSpaceIsRefusedAsNotRgb) {
+  Settings s;
+  s.colorspace = "Raw";
+  const std::string m = message_of([&] { plan_table(s, "raw.spztab", kKeywords); });
+  EXPECT_EQ(m.rfind("colorspace 'Raw': not an RGB colour space", 0), 0u) << m;
+}
+
+// A table cheap enough for a unit test: 20 nm bands.
+JobPlan small_plan(ModeChoice mode, int threads) {
+  Settings s;
+  s.colorspace = kRec709;
+  s.mode = mode;
+  s.threads = threads;
+  s.spectral.grid = WavelengthGrid(400, 700, 20);
+  return plan_table(s, "small.spztab", kFlags);
+}
+
+// Built once for the tests below (~0.7 s on two cores), with what it said.
+struct Built {
+  std::vector<std::string> said;
+  RenderTable table;
+};
+const Built& small_table() {
+  static const Built built = [] {
+    Built b;
+    b.table = make_render_table(small_plan(ModeChoice::reflectance, 2),
+                                [&](int, const std::string& m) { b.said.push_back(m); });
+    return b;
+  }();
+  return built;
+}
+
+TEST(RenderTable, ATablesBytesDependOnlyOnItsSettings) {
+  // Lights (the cheaper table): built on two cores and on one, node by node in another order.
+  const RenderTable a = make_render_table(small_plan(ModeChoice::emission, 2), kQuiet);
+  const RenderTable b = make_render_table(small_plan(ModeChoice::emission, 1), kQuiet);
+  EXPECT_EQ(a.bytes, b.bytes);
+  EXPECT_EQ(a.colorspace, kRec709);
+  EXPECT_GT(a.spectra, 0u);
+}
+
+TEST(RenderTable, AReflectanceTableSaysWhatItIsAndHasBoundaryCells) {
+  const RenderTable& t = small_table().table;
+  EXPECT_EQ(t.colorspace, kRec709);
+  EXPECT_GT(t.spectra, 0u);
+  EXPECT_EQ(t.boundary_cells, t.stats.boundary_cells);
+  EXPECT_GT(t.boundary_cells, 0u);  // the solid's boundary crosses the cube's cells
+  const std::vector<std::string>& said = small_table().said;
+  ASSERT_FALSE(said.empty());
+  EXPECT_NE(said.front().find("'" + kRec709 + "' (reflectance)"), std::string::npos)
+      << said.front();
+}
+
+TEST(RenderTable, ATablesSpectraReadBackIntegrateToTheirColours) {
+  const RenderTable& t = small_table().table;
+  // The evaluator wants 8-byte aligned bytes.
+  std::vector<std::uint64_t> words((t.bytes.size() + 7) / 8);
+  std::memcpy(words.data(), t.bytes.data(), t.bytes.size());
+  spz::TableView view;
+  char error[256] = "";
+  ASSERT_TRUE(view.open(words.data(), t.bytes.size(), error, sizeof error)) << error;
+  ASSERT_EQ(view.bands(), 16u);
+  EXPECT_TRUE(view.reflectance());
+  const WavelengthGrid grid(400, 700, 20);
+  const Observer& obs = Observer::get("cie1931");
+  const Illuminant d65 = Illuminant::get("D65");
+  // The white balance of docs/DESIGN.md §3: rho == 1 on the grid over the D65 white.
+  const Xyz w = test::reference_xyz(grid, std::vector<double>(16, 1.0), obs, &d65.spd);
+  const Xyz d65w = test::d65_white();
+  for (const std::array<float, 3>& c :
+       {std::array<float, 3>{0.5f, 0.5f, 0.5f}, {0.6f, 0.3f, 0.2f}, {0.1f, 0.4f, 0.2f}}) {
+    SCOPED_TRACE(::testing::PrintToString(c));
+    spz::Spectrum s;
+    ASSERT_EQ(view.fetch(c.data(), s), SPZ_EXACT);
+    std::vector<double> v;
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      v.push_back(spz::eval(s, static_cast<float>(grid[i])));
+      EXPECT_GE(v.back(), 0.0);
+      EXPECT_LE(v.back(), 1.0);
+    }
+    const Xyz lin = test::rgb(test::kRec709ToXyz, c[0], c[1], c[2]);
+    const Xyz want{lin.X * w.X / d65w.X, lin.Y * w.Y / d65w.Y, lin.Z * w.Z / d65w.Z};
+    EXPECT_LT(test::rel_err(test::reference_xyz(grid, v, obs, &d65.spd), want), 1e-5);
+  }
+}
+
+TEST(RenderTable, AWrittenTableIsItsBytesAndABadPathIsNamed) {
+  test::TempDir t("render_table");
+  RenderTable table;
+  table.bytes = std::string("SPZ\0table bytes", 15);
+  const std::string path = t / "out.spztab";
+  write_render_table(path, table);
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()),
+            table.bytes);
+  const std::string missing = t / "no/such/dir/out.spztab";
+  test::expect_error_mentioning([&] { write_render_table(missing, table); }, {missing},
+                                "a missing folder");
+}
+
+}  // namespace
+}  // namespace spectralize
