@@ -14,7 +14,8 @@ ColourArrays::ColourArrays(const JobPlan& plan, TablePool& pool, const LogFn& lo
     : settings_(plan.settings), warnings_(plan.warnings), spaces_(plan.spaces) {
   settings_.half = false;
   to_xyz_ = spaces_->to_xyz(settings_.colorspace);
-  entry_ = &pool.get(settings_, table_frame(*spaces_, settings_.colorspace), log);
+  entry_ =
+      &pool.get(settings_, table_frame(*spaces_, settings_.colorspace), log, plan.names("cache"));
 }
 
 PixelCounts ColourArrays::spectra(const float* rgb, std::size_t n, float* out) const {
