@@ -44,9 +44,9 @@ using Spectrum = spz_spectrum;
 
 namespace detail {
 
-// FNV-1a, 64 bit: its offset basis, and the hash of n bytes continuing from h (by default a
-// hash from the start).
-inline constexpr std::uint64_t kFnv1aOffsetBasis = 1469598103934665603ull;
+// FNV-1a, 64 bit, as published (offset basis 14695981039346656037 = 0xcbf29ce484222325, prime
+// 1099511628211): the hash of n bytes continuing from h (by default a hash from the start).
+inline constexpr std::uint64_t kFnv1aOffsetBasis = 14695981039346656037ull;
 inline std::uint64_t fnv1a(const unsigned char* p, std::size_t n,
                            std::uint64_t h = kFnv1aOffsetBasis) noexcept {
   for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;

@@ -1,10 +1,12 @@
-/* The .spztab file format, version 1 (docs/DESIGN.md §14): what `spectralize table` writes and
+/* The .spztab file format, version 2 (docs/DESIGN.md §14): what `spectralize table` writes and
  * <spectralize/rt.h> reads. Plain C, fixed-width fields, little-endian.
  *
  * A file is a 1024-byte header followed by 16 sections. Every section starts at a multiple of
  * 64 bytes (so a file mapped into memory is aligned for SIMD loads) and holds `count` elements
  * of its type (the header's `sections` table gives offset and count). The checksum is the
- * 64-bit FNV-1a hash of the whole file with the checksum field taken as zero.
+ * 64-bit FNV-1a hash (offset basis 14695981039346656037, prime 1099511628211) of the whole
+ * file with the checksum field taken as zero. Version 1 differed only in its checksum, made
+ * with a wrong offset basis (1469598103934665603): version 1 files are refused by version.
  *
  * Geometry. Reflectance tables live in the colour space's linear RGB (coordinates = RGB);
  * emission tables in CIE xy of the colour's XYZ (scale = X+Y+Z). A grid of nodes (positions
@@ -19,7 +21,7 @@
 
 #include <stdint.h>
 
-#define SPZ_FORMAT_VERSION 1u
+#define SPZ_FORMAT_VERSION 2u
 #define SPZ_BYTE_ORDER_MARK 0x01020304u /* reads 04 03 02 01 in a little-endian file */
 #define SPZ_SECTION_ALIGNMENT 64u
 #define SPZ_HEADER_SIZE 1024u

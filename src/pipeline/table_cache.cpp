@@ -19,7 +19,7 @@ namespace spectralize {
 namespace {
 
 constexpr char kMagic[16] = "SPECTRALIZE-TBL";  // 15 chars + NUL
-constexpr std::uint32_t kFormatVersion = 3;     // 3: nodes of the exact table (docs/DESIGN.md §14)
+constexpr std::uint32_t kFormatVersion = 4;     // 4: the standard FNV-1a checksum; 3: exact nodes
 constexpr std::size_t kMaxKey = 4096;
 
 // File layout: magic[16], u32 version, u64 key length, key, u64 bands, u64 entries, then per

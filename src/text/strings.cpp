@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "spectralize/core/error.h"
+#include "spectralize/rt.hpp"
 
 namespace spectralize {
 
@@ -18,9 +19,13 @@ std::string quoted_path(std::string_view path) {
   return quote(path, 200);
 }
 
+// One implementation: the render-time evaluator's, which checks table files with it.
+std::uint64_t fnv1a(std::string_view bytes) {
+  return fnv1a(bytes, spz::detail::kFnv1aOffsetBasis);
+}
+
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h) {
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-  return h;
+  return spz::detail::fnv1a(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), h);
 }
 
 std::string hex64(std::uint64_t v) {

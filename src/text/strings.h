@@ -15,9 +15,11 @@ std::string clip(std::string_view value, std::size_t limit = 80);
 /// A path quoted for a message, shortened to 200 bytes: "'lib/a.png'". Cost: O(200).
 std::string quoted_path(std::string_view path);
 
-/// FNV-1a (64-bit) of `bytes`, continuing from `h`: stable across machines and standard
-/// libraries, so usable in file names and keys. Cost: O(bytes).
-std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 1469598103934665603ull);
+/// The standard FNV-1a (64-bit) of `bytes`: stable across machines and standard libraries, so
+/// usable in file names and keys. Cost: O(bytes).
+std::uint64_t fnv1a(std::string_view bytes);
+/// FNV-1a of `bytes` continuing the hash `h` of what came before them. Cost: O(bytes).
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h);
 
 /// `v` as 16 lower-case hexadecimal digits. Cost: O(1).
 std::string hex64(std::uint64_t v);

@@ -109,7 +109,7 @@ TEST(Caches, UnusableCachesAreReportedAndRebuilt) {
         std::memcpy(b.data() + at, &v, 4);
       }
     }
-    std::uint64_t h = 1469598103934665603ull;
+    std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a 64's published offset basis
     for (std::size_t i = 0; i < b.size() - 8; ++i)
       h = (h ^ static_cast<unsigned char>(b[i])) * 1099511628211ull;
     std::memcpy(b.data() + b.size() - 8, &h, 8);

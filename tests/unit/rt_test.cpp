@@ -697,8 +697,10 @@ TEST(RtFile, BadFilesAreRefusedWithAMessage) {
   expect_refused(write("cut.spztab", good.substr(0, good.size() - 1)), "truncated");
   expect_refused(write("long.spztab", good + "x"), "extra bytes");
   expect_refused(write("magic.spztab", "PNG" + good.substr(3)), "not a spectralize table");
-  const std::uint32_t v2 = 2, swapped = 0x04030201u;
-  expect_refused(write("version.spztab", patched(8, &v2, 4, true)), "version 2");
+  // Another version, older (1: its checksum had a wrong FNV-1a offset basis) or newer.
+  const std::uint32_t v1 = 1, v3 = 3, swapped = 0x04030201u;
+  expect_refused(write("version1.spztab", patched(8, &v1, 4, true)), "format version 1");
+  expect_refused(write("version3.spztab", patched(8, &v3, 4, true)), "format version 3");
   expect_refused(write("endian.spztab", patched(12, &swapped, 4, true)), "byte order");
   // Flipped bytes anywhere: the checksum.
   for (std::size_t at : {std::size_t(40), std::size_t(700), good.size() / 2, good.size() - 3}) {

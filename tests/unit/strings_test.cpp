@@ -1,4 +1,5 @@
-// Message helpers (text/strings.h): long values are clipped, whole UTF-8 characters kept.
+// Text helpers (text/strings.h): long values are clipped, whole UTF-8 characters kept; the
+// hash of file names, keys and table checksums is the published FNV-1a.
 
 #include "text/strings.h"
 
@@ -9,6 +10,17 @@
 
 namespace spectralize {
 namespace {
+
+TEST(Fnv1a, IsThePublishedHashSoOtherToolsCanCheckOurFiles) {
+  // The published FNV-1a 64 test vectors (offset basis 0xcbf29ce484222325, prime 0x100000001b3):
+  // what a reader of the table format written from its specification computes.
+  EXPECT_EQ(fnv1a(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(fnv1a("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(fnv1a("foobar"), 0x85944171f73967e8ull);
+  // Continuing a hash is hashing the whole.
+  EXPECT_EQ(fnv1a("bar", fnv1a("foo")), fnv1a("foobar"));
+  EXPECT_EQ(hex64(fnv1a("a")), "af63dc4c8601ec8c");
+}
 
 TEST(Messages, LongValuesAreClipped) {
   const std::string big(100000, 'x');
