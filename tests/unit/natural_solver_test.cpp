@@ -32,19 +32,10 @@ using namespace test;  // NOLINT: the checks of spectralizer_checks.h
 constexpr double kLight = std::numeric_limits<double>::infinity();
 
 // The default grid's weights (reflectance under D65, or emission) and a solver on them.
-struct OnGrid {
-  WavelengthGrid grid;
-  Illuminant d65 = Illuminant::get("D65");
-  bool reflectance;
-  SampleWeights w;
+struct OnGrid : test::DefaultGridWeights {
   NaturalSolver solver;
   explicit OnGrid(bool refl, double natural_depth = NaturalSolver::kNaturalDepth)
-      : reflectance(refl),
-        w(grid, Observer::get("cie1931"), refl ? &d65 : nullptr),
-        solver(w.columns(), grid.step(), natural_depth) {}
-  Xyz colour(const std::vector<double>& s) const {
-    return reference_xyz(grid, s, Observer::get("cie1931"), reflectance ? &d65.spd : nullptr);
-  }
+      : DefaultGridWeights(refl), solver(w.columns(), grid.step(), natural_depth) {}
   Xyz white() const { return colour(std::vector<double>(grid.size(), 1.0)); }
 };
 

@@ -24,16 +24,9 @@ namespace {
 using namespace test;  // NOLINT: the checks of spectralizer_checks.h
 
 // A model context on the default grid (reflectance under D65, or emission).
-struct OnGrid {
-  WavelengthGrid grid;
-  Illuminant d65 = Illuminant::get("D65");
-  bool reflectance;
-  SampleWeights w;
-  std::vector<double> nm;
-  explicit OnGrid(bool refl)
-      : reflectance(refl), w(grid, Observer::get("cie1931"), refl ? &d65 : nullptr) {
-    for (std::size_t i = 0; i < grid.size(); ++i) nm.push_back(grid[i]);
-  }
+struct OnGrid : test::DefaultGridWeights {
+  std::vector<double> nm = wavelengths();
+  explicit OnGrid(bool refl) : DefaultGridWeights(refl) {}
   ModelContext context(const EdgeFilter& filter) const {
     ModelContext c;
     c.columns = w.columns();
@@ -41,9 +34,6 @@ struct OnGrid {
     c.step_nm = grid.step();
     c.filter = filter;
     return c;
-  }
-  Xyz colour(const std::vector<double>& s) const {
-    return reference_xyz(grid, s, Observer::get("cie1931"), reflectance ? &d65.spd : nullptr);
   }
 };
 

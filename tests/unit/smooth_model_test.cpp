@@ -23,16 +23,9 @@ namespace {
 using test::reference_xyz;
 using test::rel_err;
 
-struct OnGrid {
-  WavelengthGrid grid;
-  Illuminant d65 = Illuminant::get("D65");
-  bool reflectance;
-  SampleWeights w;
-  std::vector<double> nm;
-  explicit OnGrid(bool refl)
-      : reflectance(refl), w(grid, Observer::get("cie1931"), refl ? &d65 : nullptr) {
-    for (std::size_t i = 0; i < grid.size(); ++i) nm.push_back(grid[i]);
-  }
+struct OnGrid : test::DefaultGridWeights {
+  std::vector<double> nm = wavelengths();
+  explicit OnGrid(bool refl) : DefaultGridWeights(refl) {}
   ModelContext context(double tau) const {
     ModelContext c;
     c.columns = w.columns();
@@ -40,9 +33,6 @@ struct OnGrid {
     c.step_nm = grid.step();
     c.curvature_nm = tau;
     return c;
-  }
-  Xyz colour(const std::vector<double>& s) const {
-    return reference_xyz(grid, s, Observer::get("cie1931"), reflectance ? &d65.spd : nullptr);
   }
 };
 

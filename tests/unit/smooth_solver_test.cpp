@@ -31,17 +31,7 @@ using test::rel_err;
 
 constexpr double kLight = std::numeric_limits<double>::infinity();
 
-struct OnGrid {
-  WavelengthGrid grid;
-  Illuminant d65 = Illuminant::get("D65");
-  bool reflectance;
-  SampleWeights w;
-  explicit OnGrid(bool refl)
-      : reflectance(refl), w(grid, Observer::get("cie1931"), refl ? &d65 : nullptr) {}
-  Xyz colour(const std::vector<double>& s) const {
-    return reference_xyz(grid, s, Observer::get("cie1931"), reflectance ? &d65.spd : nullptr);
-  }
-};
+using OnGrid = test::DefaultGridWeights;
 
 // The roughness of the definition and its gradient, written out.
 double roughness_of(const std::vector<double>& x, const Roughness& r) {

@@ -14,6 +14,7 @@
 
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
+#include "spectralize/core/sample_weights.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralize/core/wavelength_grid.h"
 #include "spectralize/core/xyz.h"
@@ -179,6 +180,27 @@ inline Xyz reference_xyz(const WavelengthGrid& grid, std::span<const double> val
   return (1.0 / reference_norm(grid, obs, illuminant)) *
          raw_integral(grid.start(), grid.step(), values, obs, illuminant);
 }
+
+/// The default grid's weights (a reflectance under D65, or emission) and the reference
+/// integration of a spectrum on that grid: what the core's model and solver tests start from.
+struct DefaultGridWeights {
+  WavelengthGrid grid;
+  Illuminant d65 = Illuminant::get("D65");
+  bool reflectance;
+  SampleWeights w;
+  explicit DefaultGridWeights(bool refl)
+      : reflectance(refl), w(grid, Observer::get("cie1931"), refl ? &d65 : nullptr) {}
+  /// The grid's wavelengths, nm.
+  std::vector<double> wavelengths() const {
+    std::vector<double> nm;
+    for (std::size_t i = 0; i < grid.size(); ++i) nm.push_back(grid[i]);
+    return nm;
+  }
+  /// The XYZ of samples `s` by the reference integration (docs/DESIGN.md §3).
+  Xyz colour(const std::vector<double>& s) const {
+    return reference_xyz(grid, s, Observer::get("cie1931"), reflectance ? &d65.spd : nullptr);
+  }
+};
 
 /// XYZ of an illuminant itself (a light with that SPD), integrated on the full 1 nm table
 /// (un-normalised).
