@@ -115,7 +115,7 @@ std::string config_identity_now(const Settings& s) {
   if (path.empty())
     if (const char* env = std::getenv("OCIO"); env && *env) path = env;
   if (path.empty()) return "shipped";
-  struct stat st {};
+  struct stat st = {};
   if (::stat(path.c_str(), &st) != 0) return path;
   return path + " " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino) + " " +
          std::to_string(st.st_size) + " " + std::to_string(st.st_mtim.tv_sec) + "." +

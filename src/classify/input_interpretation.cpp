@@ -11,6 +11,7 @@
 #include <set>
 
 #include "classify/light_or_surface.h"
+#include "imagefile/oiio_compat.h"
 #include "imagefile/spectral_channel.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
@@ -27,6 +28,21 @@ std::uint32_t be32(const unsigned char* p) {
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
+}
+
+// "<curve>_<primaries>_scene" or "..._display" (lin_rec709_scene, srgb_rec709_display), or
+// "data": the shape of the Color Interop Forum's IDs, as OIIO 3 writes them in oiio:ColorSpace.
+bool looks_like_interop_id(std::string_view s) {
+  if (s == "data") return true;
+  const std::size_t first = s.find('_'), last = s.rfind('_');
+  if (first == std::string_view::npos || first == 0 || last <= first + 1) return false;
+  const std::string_view ref = s.substr(last + 1);
+  if (ref != "scene" && ref != "display") return false;
+  for (char c : s)
+    if (!(std::islower(static_cast<unsigned char>(c)) ||
+          std::isdigit(static_cast<unsigned char>(c)) || c == '_'))
+      return false;
+  return true;
 }
 
 // Names spaces of a known interop ID often have in configs (ACES, the shipped one), tried
@@ -78,10 +94,13 @@ std::string find_space(const ColourSpaces& spaces, const std::string& id,
   return "";
 }
 
-// PNG colour chunks OIIO 2.4 does not report: cHRM (primaries and white, 8 x 1e-5 units).
+// A PNG's colour chunks, read by spectralize itself: OIIO 2.4 does not report cHRM, and OIIO 3
+// reports gAMA 1.0 only through its own reading of the chunks ("lin_rec709_scene").
 struct PngChunks {
   bool chrm = false;
-  float xy[8] = {};
+  float xy[8] = {};   // cHRM: primaries and white, 8 x 1e-5 units
+  bool srgb = false;  // sRGB: the sRGB curve, whatever gAMA says (the PNG standard)
+  float gamma = 0;    // gAMA, as the exponent that decodes (2.2 for a stored 45455), or 0
 };
 
 PngChunks read_png_chunks(const std::string& file) {
@@ -98,6 +117,9 @@ PngChunks read_png_chunks(const std::string& file) {
     if (type == "IDAT" || type == "IEND" || length > (1u << 20)) break;
     std::vector<unsigned char> data(length + 4);
     if (!f.read(reinterpret_cast<char*>(data.data()), length + 4)) break;
+    if (type == "sRGB") out.srgb = true;
+    if (type == "gAMA" && length == 4 && be32(&data[0]) > 0)
+      out.gamma = 100000.0f / static_cast<float>(be32(&data[0]));
     if (type == "cHRM" && length == 32) {
       out.chrm = true;
       // Order in the chunk: white, red, green, blue; ours: red, green, blue, white.
@@ -175,11 +197,14 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
   // The names the file gives its own space: preferred among spaces of the same interop ID.
   std::vector<std::string> named;
   const std::string meta = spec.get_string_attribute("oiio:ColorSpace");
-  // OIIO reports "Linear" for every EXR and "sRGB" for every PNG without colour metadata: only
-  // a name beyond those generic defaults is a statement about this file.
+  // OIIO 2 reports "Linear" for every EXR and "sRGB" for every PNG without colour metadata;
+  // OIIO 3 reports an interop ID it derives from what the file says (its colorInteropID, a
+  // PNG's chunks, a TIFF's Exif colour space), which is read here directly. Only a name beyond
+  // those is a statement of its own about this file.
   const bool generic = OIIO::Strutil::iequals(meta, "linear") ||
                        OIIO::Strutil::iequals(meta, "srgb") ||
-                       OIIO::Strutil::istarts_with(meta, "GammaCorrected");
+                       OIIO::Strutil::istarts_with(meta, "GammaCorrected") ||
+                       (oiio_compat::kInteropColourSpaceNames && looks_like_interop_id(meta));
   if (!meta.empty() && !generic) named.push_back(meta);
   std::string desc;
   const OIIO::ParamValue* icc = spec.find_attribute("ICCProfile");
@@ -265,10 +290,10 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
                        "assumed '" +
                        fallback + "'");
   }
-  // PNG gAMA (OIIO's oiio:Gamma) and cHRM.
+  // PNG gAMA (unless an sRGB chunk overrules it) and cHRM.
   const bool png = OIIO::Strutil::iends_with(file, ".png");
+  const PngChunks chunks = png ? read_png_chunks(file) : PngChunks{};
   if (png) {
-    const PngChunks chunks = read_png_chunks(file);
     if (chunks.chrm && chromaticity_difference(chunks.xy, kRec709) > kChromaticityTolerance) {
       warnings.push_back(where + "its PNG cHRM primaries (" +
                          OIIO::Strutil::fmt::format("{:.3f},{:.3f} {:.3f},{:.3f} {:.3f},{:.3f}",
@@ -277,8 +302,8 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
                          ") are not honoured; assumed Rec.709 primaries");
     }
   }
-  if (const OIIO::ParamValue* g = spec.find_attribute("oiio:Gamma"); g && png) {
-    const float gamma = spec.get_float_attribute("oiio:Gamma", 0);
+  if (png && chunks.gamma > 0 && !chunks.srgb) {
+    const float gamma = chunks.gamma;
     std::string space;
     if (std::abs(gamma - 1.0f) < 0.01f)
       space = find_space(spaces, "lin_rec709_scene", named);
@@ -421,14 +446,25 @@ ChannelRoles colour_channels(const OIIO::ImageSpec& spec, const std::string& fil
 std::pair<std::string, std::string> default_colour_space(const ColourSpaces& spaces,
                                                          bool float_data) {
   // Float data is scene-linear light; integer data is a painted or photographed texture, whose
-  // encoding matte_paint and color_picking name in ACES-style configs (texture_paint is often a
-  // log space there, so it comes last).
+  // encoding matte_paint and color_picking name in ACES-style configs. A role the config says
+  // is a log encoding is passed over while another role names a texture's encoding (ACES 1.3
+  // configs make texture_paint ACEScct, the ACES 2.0 ones matte_paint).
   const std::vector<const char*> roles =
       float_data ? std::vector<const char*>{"scene_linear"}
                  : std::vector<const char*>{"matte_paint", "color_picking", "texture_paint"};
-  for (const char* role : roles) {
-    const std::string space = spaces.role(role);
-    if (!space.empty()) return {space, std::string("the config's ") + role + " role"};
+  std::string passed;
+  for (const bool allow_log : {false, true}) {
+    for (const char* role : roles) {
+      const std::string space = spaces.role(role);
+      if (space.empty()) continue;
+      const bool log = !float_data && spaces.facts(space).encoding == "log";
+      if (log && !allow_log) {
+        if (passed.empty()) passed = std::string(role) + ", '" + space + "', is a log encoding";
+        continue;
+      }
+      return {space, std::string("the config's ") + role + " role" +
+                         (passed.empty() || allow_log ? "" : " (its " + passed + ")")};
+    }
   }
   throw ConfigError(
       "the OCIO config '" + spaces.origin() + "' has no " +

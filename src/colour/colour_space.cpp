@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "colour/ocio_compat.h"
 #include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
@@ -24,6 +25,13 @@ namespace spectralize {
 namespace embedded {
 extern const std::string_view kOcioConfig;
 }
+
+// Every space's facts, gathered once (ColourSpaces::facts): entries are never removed, so a
+// reference to one stays valid while the cache lives.
+struct ColourFactsCache {
+  std::mutex mutex;
+  std::map<std::string, std::unique_ptr<const ColourSpaceFacts>, std::less<>> by_name;
+};
 
 namespace {
 
@@ -72,16 +80,30 @@ XyzRoute xyz_route_of(const ConfigPtr& config, const std::string& origin) {
                     " (ACES2065-1); add one of these roles or spaces to the config");
 }
 
+bool is_builtin_uri(std::string_view path) {
+  return path.rfind("ocio://", 0) == 0;
+}
+
 // Parsing a config compiles its file rules into regular expressions (milliseconds, and a
 // recursion deep enough to matter under a recipe chain): a job, a chain of recipes and a batch
 // read the same config many times, so a process keeps what it parsed, keyed by the config's
-// location and bytes (an edited file is parsed again). Parsed configs are immutable and OCIO
-// reads them from any thread. `path` empty: the shipped config.
-ConfigPtr parsed_config(const std::string& path) {
+// location and bytes (an edited file is parsed again; a built-in URI is its own key). Parsed
+// configs are immutable and OCIO reads them from any thread. `path` empty: the shipped config.
+// `resolved` is what a built-in URI resolved to ("ocio://cg-config-v4.0.0_aces-v2.0_ocio-v2.5");
+// `facts` the config's colour-space facts, gathered by whichever load asks first.
+struct Parsed {
+  ConfigPtr config;
+  std::string resolved;
+  std::shared_ptr<ColourFactsCache> facts;
+};
+
+Parsed parsed_config(const std::string& path) {
   static std::mutex mutex;
-  static std::map<std::string, ConfigPtr> parsed;
+  static std::map<std::string, Parsed> parsed;
   std::string key = "shipped";
-  if (!path.empty()) {
+  if (is_builtin_uri(path)) {
+    key = path;
+  } else if (!path.empty()) {
     std::ifstream f(path, std::ios::binary);
     std::ostringstream bytes;
     bytes << f.rdbuf();
@@ -93,18 +115,29 @@ ConfigPtr parsed_config(const std::string& path) {
     std::lock_guard<std::mutex> lock(mutex);
     if (auto it = parsed.find(key); it != parsed.end()) return it->second;
   }
-  ConfigPtr config;
+  Parsed p;
   if (path.empty()) {
     std::istringstream text{std::string(embedded::kOcioConfig)};
-    config = OCIO::Config::CreateFromStream(text);
+    p.config = OCIO::Config::CreateFromStream(text);
+  } else if (is_builtin_uri(path)) {
+    p.config = ocio_compat::builtin_config(path, p.resolved);
   } else {
-    config = OCIO::Config::CreateFromFile(path.c_str());
+    p.config = OCIO::Config::CreateFromFile(path.c_str());
   }
-  config->validate();
+  p.config->validate();
+  p.facts = std::make_shared<ColourFactsCache>();
   std::lock_guard<std::mutex> lock(mutex);
   if (parsed.size() >= 16) parsed.clear();  // a bound, for processes that see many configs
-  parsed.emplace(std::move(key), config);
-  return config;
+  return parsed.emplace(std::move(key), std::move(p)).first->second;
+}
+
+// Exactness is promised through OCIO (docs/DESIGN.md §3): its processors are asked for lossless
+// optimisation only. The default (OPTIMIZATION_VERY_GOOD) lets OCIO 2.2+ use fast approximate
+// pow/log/exp (OPTIMIZATION_FAST_LOG_EXP_POW, SIMD) and composed 1D LUTs: an sRGB 0.5 then
+// reaches XYZ 4.7e-6 off with OCIO 2.5.
+CpuPtr exact_cpu_processor(const OCIO::ConstProcessorRcPtr& processor) {
+  return processor->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
+                                             OCIO::OPTIMIZATION_LOSSLESS);
 }
 
 }  // namespace
@@ -122,6 +155,14 @@ Xyz ColourTransform::operator()(double r, double g, double b) const {
   return {px[0], px[1], px[2]};
 }
 
+std::string ColourSpaces::ocio_version() {
+  return OCIO::GetVersion();
+}
+
+bool ColourSpaces::has_builtin_configs() {
+  return ocio_compat::kBuiltinConfigs;
+}
+
 ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
   // OCIO logs its own opinions of a config (inactive spaces, deprecated keys) on stderr;
   // spectralize reports what matters to the job itself, naming the config.
@@ -133,33 +174,38 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
   ColourSpaces cs;
   ConfigPtr config;
   std::string where;
-  // A value that names no file (a mistake of the command line, not of a config).
-  if (explicit_path.rfind("ocio://", 0) == 0)
-    throw Error(
-        "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this build uses "
-        "OpenColorIO " +
-        std::string(OCIO::GetVersion()) + ": give the path of a config file");
+  const char* env = std::getenv("OCIO");
+  const std::string source = !explicit_path.empty() ? explicit_path : env && *env ? env : "";
+  // A built-in config this OCIO does not have: a mistake of the command line (or of $OCIO).
+  if (is_builtin_uri(source) && !ocio_compat::kBuiltinConfigs) {
+    const std::string why =
+        "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this "
+        "build uses OpenColorIO " +
+        std::string(OCIO::GetVersion()) + ": give the path of a config file";
+    if (!explicit_path.empty()) throw Error(why);
+    throw ConfigError("OCIO config '$OCIO=" + source + "': " + why);
+  }
   try {
     if (!explicit_path.empty()) {
       where = explicit_path;
-      check_readable_file(explicit_path, "OCIO config");
-      config = parsed_config(explicit_path);
       cs.origin_ = explicit_path;
-      cs.file_ = explicit_path;
-    } else if (const char* env = std::getenv("OCIO"); env && *env) {
-      where = std::string("$OCIO=") + env;
-      check_readable_file(env, "$OCIO");
-      config = parsed_config(env);
+    } else if (!source.empty()) {
+      where = "$OCIO=" + source;
       cs.origin_ = where;
-      cs.file_ = env;
     } else {
       where = "the shipped config";
-      config = parsed_config("");
       cs.origin_ = "shipped";
     }
+    if (!source.empty() && !is_builtin_uri(source))
+      check_readable_file(source, explicit_path.empty() ? "$OCIO" : "OCIO config");
+    const Parsed p = parsed_config(source);
+    config = p.config;
+    cs.builtin_ = p.resolved;
+    cs.facts_ = p.facts;
+    cs.file_ = is_builtin_uri(source) ? "" : source;
   } catch (const OCIO::Exception& e) {
     throw ConfigError("OCIO config '" + where + "': " + clip(e.what(), 300));
-  } catch (const Error& e) {  // not a readable regular file, or a built-in config
+  } catch (const Error& e) {  // not a readable regular file
     const std::string why = e.what();
     const std::size_t at = why.find("): ");
     throw ConfigError("OCIO config '" + where +
@@ -240,7 +286,15 @@ std::vector<std::pair<std::string, std::string>> ColourSpaces::referenced_files(
 }
 
 std::string ColourSpaces::content_identity() const {
-  std::uint64_t h = fnv1a(file_.empty() ? std::string(embedded::kOcioConfig) : file_bytes(file_));
+  std::string bytes;
+  if (!builtin_.empty()) {  // a built-in config: its text, as this OCIO serialises it
+    std::ostringstream text;
+    config_of(config_)->serialize(text);
+    bytes = builtin_ + '\0' + text.str();
+  } else {
+    bytes = file_.empty() ? std::string(embedded::kOcioConfig) : file_bytes(file_);
+  }
+  std::uint64_t h = fnv1a(bytes);
   for (const auto& [src, resolved] : referenced_files()) {
     h = fnv1a(src + '\0', h);
     h = fnv1a(resolved.empty() ? std::string("(not found)") : file_bytes(resolved), h);
@@ -315,7 +369,7 @@ ColourTransform ColourSpaces::transform(std::string_view space, bool to_xyz) con
     group->appendTransform(convert);
     if (to_xyz && route.via_ap0) group->appendTransform(ap0);
     auto processor = config->getProcessor(group);
-    t.processor_ = std::make_shared<const CpuPtr>(processor->getDefaultCPUProcessor());
+    t.processor_ = std::make_shared<const CpuPtr>(exact_cpu_processor(processor));
   } catch (const OCIO::Exception& e) {
     throw Error("OCIO cannot convert between '" + t.source_ + "' and CIE-XYZ-D65: " + e.what());
   }
@@ -363,7 +417,7 @@ ColourTransform ColourSpaces::display_from_xyz(const std::string& display,
     dv->setView(v.c_str());
     group->appendTransform(dv);
     auto processor = config->getProcessor(group);
-    t.processor_ = std::make_shared<const CpuPtr>(processor->getDefaultCPUProcessor());
+    t.processor_ = std::make_shared<const CpuPtr>(exact_cpu_processor(processor));
   } catch (const OCIO::Exception& e) {
     throw Error("OCIO cannot convert CIE-XYZ-D65 to display '" + display + "', view '" + v +
                 "': " + e.what());
@@ -414,22 +468,6 @@ std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& p
   if (!space || !*space) return {"", ""};
   auto cs = config->getColorSpace(space);
   return {cs ? cs->getName() : space, config->getFileRules()->getName(index)};
-}
-
-bool ColourSpaces::is_data(std::string_view space) const {
-  auto cs = config_of(config_)->getColorSpace(std::string(space).c_str());
-  return cs && cs->isData();
-}
-
-bool ColourSpaces::is_linear(std::string_view space) const {
-  if (is_data(space)) return false;
-  const ColourTransform t = to_xyz(space);
-  // Linear maps scale: f(k c) = k f(c), for two scales on a colour of distinct components.
-  const Xyz a = t(0.8, 0.5, 0.2), b = t(0.4, 0.25, 0.1), c = t(0.08, 0.05, 0.02), o = t(0, 0, 0);
-  auto close = [](const Xyz& x, const Xyz& y) {
-    return (x - y).max_abs() <= 1e-5 * std::max(1e-3, y.max_abs());
-  };
-  return o.max_abs() <= 1e-7 && close(b, 0.5 * a) && close(c, 0.1 * a);
 }
 
 namespace {
@@ -548,91 +586,156 @@ std::string interop_id_of_chromaticities(const float* xy) {
   return "";
 }
 
-std::optional<std::array<float, 8>> ColourSpaces::primaries_d65(std::string_view space) const {
-  if (is_data(space)) return std::nullopt;
-  const ColourTransform t = to_xyz(space);
-  // The primaries are the XYZ of the unit RGB vectors; 0 and 1 survive any transfer function.
-  const Xyz p[4] = {t(1, 0, 0), t(0, 1, 0), t(0, 0, 1), t(1, 1, 1)};
-  std::array<float, 8> xy{};
-  for (int i = 0; i < 4; ++i) {
-    const double sum = p[i].sum();
-    if (!(std::abs(sum) > 1e-9) || !p[i].finite()) return std::nullopt;
-    xy[2 * i] = static_cast<float>(p[i].X / sum);
-    xy[2 * i + 1] = static_cast<float>(p[i].Y / sum);
+const ColourSpaceFacts& ColourSpaces::facts(std::string_view space) const {
+  const std::string name = resolve(space);
+  {
+    std::lock_guard<std::mutex> lock(facts_->mutex);
+    if (auto it = facts_->by_name.find(name); it != facts_->by_name.end()) return *it->second;
   }
-  return xy;
+  // Gathered unlocked (OCIO builds a processor); two threads asking at once keep the first.
+  auto gathered = std::make_unique<const ColourSpaceFacts>(gather_facts(name));
+  std::lock_guard<std::mutex> lock(facts_->mutex);
+  return *facts_->by_name.emplace(name, std::move(gathered)).first->second;
+}
+
+ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
+  ColourSpaceFacts f;
+  f.name = space;
+  const auto cs = config_of(config_)->getColorSpace(space.c_str());
+  f.encoding = cs->getEncoding() ? cs->getEncoding() : "";
+  f.interop_id = ocio_compat::interop_id(cs);
+  f.interop_id_from_config = !f.interop_id.empty();
+  f.display_referred = cs->getReferenceSpaceType() == OCIO::REFERENCE_SPACE_DISPLAY;
+  f.data = cs->isData() || f.encoding == "data" || f.interop_id == "data";
+  if (f.data) {
+    f.interop_id = "data";
+    return f;
+  }
+  const ColourTransform t = to_xyz(space);
+  // Linear maps scale: f(k c) = k f(c), for two scales on a colour of distinct components.
+  const Xyz a = t(0.8, 0.5, 0.2), b = t(0.4, 0.25, 0.1), c = t(0.08, 0.05, 0.02), o = t(0, 0, 0);
+  auto close = [](const Xyz& x, const Xyz& y) {
+    return (x - y).max_abs() <= 1e-5 * std::max(1e-3, y.max_abs());
+  };
+  f.linear = o.max_abs() <= 1e-7 && close(b, 0.5 * a) && close(c, 0.1 * a);
+  // Primaries along their directions from mid grey: t(1, g, g) - t(g, g, g) is the red primary
+  // times c(1) - c(g) for any per-channel curve c (also a log curve, where c(0) is not 0).
+  const Xyz mid = t(0.5, 0.5, 0.5), white = t(1, 1, 1);
+  const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid, white};
+  std::array<float, 8> xy{};
+  bool primaries = true;
+  for (int k = 0; k < 4; ++k) {
+    const double sum = dirs[k].sum();
+    primaries = primaries && std::abs(sum) > 1e-9 && dirs[k].finite();
+    if (primaries) {
+      xy[2 * k] = static_cast<float>(dirs[k].X / sum);
+      xy[2 * k + 1] = static_cast<float>(dirs[k].Y / sum);
+    }
+  }
+  if (!primaries) return f;
+  f.primaries_d65 = xy;
+  const KnownSpace* known = nullptr;
+  for (const KnownSpace& k : kKnown)
+    if (!known && chromaticity_difference(k.adapted.data(), xy.data()) <= kChromaticityTolerance)
+      known = &k;
+  // A known space is tagged with its standard's own primaries and white, as files expect.
+  f.chromaticities = known ? known->native : xy;
+  // The transfer: greys keep the white's chromaticity, so Y(v) / Y(1) is the curve at v.
+  if (std::abs(white.Y) > 1e-12) {
+    auto matches = [&](auto&& curve) {
+      for (double v : {0.01, 0.03, 0.1, 0.3, 0.5, 0.8}) {
+        const double want = curve(v), got = t(v, v, v).Y / white.Y;
+        // 563/256 and 2.2 differ by 4e-3 at 0.01.
+        if (!(std::abs(got - want) <= 1e-3 * want + 1e-6)) return false;
+      }
+      return true;
+    };
+    if (matches([](double v) { return v; })) {
+      f.transfer = IccTransfer{IccTransfer::linear, 1};
+    } else if (matches([](double v) {
+                 return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+               })) {
+      f.transfer = IccTransfer{IccTransfer::srgb, 2.4};
+    } else {
+      for (double g : {563.0 / 256, 2.2, 2.4, 1.8, 2.6})
+        if (!f.transfer && matches([g](double v) { return std::pow(v, g); }))
+          f.transfer = IccTransfer{IccTransfer::gamma, g};
+    }
+  }
+  if (f.interop_id_from_config || !known) return f;
+  // Measured: the curve, recognised by its value at 0.5 (linear 0.5, the sRGB curve 0.2140, a
+  // gamma of 2.2 or Adobe's 563/256 0.2176, 1.8 0.2872, 2.4 0.1895, 2.6 0.1649), on known
+  // primaries, scene- or display-referred, when the Color Interop Forum names that.
+  std::string curve;
+  if (f.linear) {
+    curve = "lin";
+  } else if (std::abs(white.Y) > 1e-12) {
+    const double v = mid.Y / white.Y;
+    const std::pair<const char*, double> curves[] = {
+        {"srgb", 0.21404}, {"g22", 0.21764}, {"g18", 0.28717}, {"g24", 0.18946}, {"g26", 0.16494}};
+    for (const auto& [name, at_half] : curves)
+      if (std::abs(v - at_half) < 1e-3) curve = name;
+  }
+  if (curve.empty()) return f;
+  const std::string id =
+      curve + "_" + known->primaries + (f.display_referred ? "_display" : "_scene");
+  for (const char* k : kInteropIds)
+    if (id == k) f.interop_id = id;
+  return f;
+}
+
+bool ColourSpaces::is_data(std::string_view space) const {
+  // An unknown name is no data space (resolve() names the valid ones where it matters).
+  if (!config_of(config_)->getColorSpace(std::string(space).c_str())) return false;
+  return facts(space).data;
+}
+
+bool ColourSpaces::is_linear(std::string_view space) const {
+  return facts(space).linear;
+}
+
+std::optional<std::array<float, 8>> ColourSpaces::primaries_d65(std::string_view space) const {
+  return facts(space).primaries_d65;
 }
 
 bool ColourSpaces::is_display_referred(std::string_view space) const {
-  auto cs = config_of(config_)->getColorSpace(std::string(space).c_str());
-  return cs && cs->getReferenceSpaceType() == OCIO::REFERENCE_SPACE_DISPLAY;
+  return facts(space).display_referred;
 }
 
 std::optional<std::array<float, 8>> ColourSpaces::chromaticities(std::string_view space) const {
-  // A known space is tagged with its standard's own primaries and white, as files expect
-  // (ACEScg: the ACES white, not the D65 the config adapts it to).
-  const auto derived = primaries_d65(space);
-  if (!derived) return std::nullopt;
-  for (const KnownSpace& k : kKnown)
-    if (chromaticity_difference(k.adapted.data(), derived->data()) <= kChromaticityTolerance)
-      return k.native;
-  return derived;
+  return facts(space).chromaticities;
 }
 
 std::optional<IccTransfer> ColourSpaces::transfer(std::string_view space) const {
-  if (is_data(space) || !primaries_d65(space)) return std::nullopt;
-  // Greys keep the white's chromaticity, so Y(v) / Y(1) is the transfer function at v.
-  const ColourTransform t = to_xyz(space);
-  const double white = t(1, 1, 1).Y;
-  if (!(std::abs(white) > 1e-12)) return std::nullopt;
-  auto matches = [&](auto&& curve) {
-    for (double v : {0.01, 0.03, 0.1, 0.3, 0.5, 0.8}) {
-      const double want = curve(v), got = t(v, v, v).Y / white;
-      // OCIO's CPU path computes powers to ~1e-4; 563/256 and 2.2 still differ by 4e-3 at 0.01.
-      if (!(std::abs(got - want) <= 1e-3 * want + 1e-6)) return false;
-    }
-    return true;
-  };
-  if (matches([](double v) { return v; })) return IccTransfer{IccTransfer::linear, 1};
-  if (matches(
-          [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }))
-    return IccTransfer{IccTransfer::srgb, 2.4};
-  for (double g : {563.0 / 256, 2.2, 2.4, 1.8, 2.6})
-    if (matches([g](double v) { return std::pow(v, g); }))
-      return IccTransfer{IccTransfer::gamma, g};
-  return std::nullopt;
+  return facts(space).transfer;
 }
 
 std::string ColourSpaces::interop_id(std::string_view space) const {
-  if (is_data(space)) return "data";
-  const auto xy = primaries_d65(space);
-  if (!xy) return "";
-  for (const KnownSpace& k : kKnown) {
-    if (chromaticity_difference(k.adapted.data(), xy->data()) > kChromaticityTolerance) continue;
-    // The encoding, recognised by its value at 0.5: linear 0.5, the sRGB curve 0.2140, a gamma
-    // of 2.2 (or Adobe's 563/256) 0.2176, 1.8 0.2872, 2.4 0.1895, 2.6 0.1649.
-    std::string curve;
-    if (is_linear(space)) {
-      curve = "lin";
-    } else {
-      const Xyz half = to_xyz(space)(0.5, 0.5, 0.5), one = to_xyz(space)(1, 1, 1);
-      const double v = half.Y / one.Y;
-      const std::pair<const char*, double> curves[] = {{"srgb", 0.21404},
-                                                       {"g22", 0.21764},
-                                                       {"g18", 0.28717},
-                                                       {"g24", 0.18946},
-                                                       {"g26", 0.16494}};
-      for (const auto& [name, at_half] : curves)
-        if (std::abs(v - at_half) < 1e-3) curve = name;
+  return facts(space).interop_id;
+}
+
+std::string ColourSpaces::linear_twin(std::string_view space) const {
+  const ColourSpaceFacts& f = facts(space);
+  if (f.data || !f.primaries_d65) return "";
+  if (f.linear && !f.display_referred) return f.name;
+  // By interop ID: "<curve>_<primaries>_<reference>" has the twin "lin_<primaries>_scene".
+  const std::size_t first = f.interop_id.find('_'), last = f.interop_id.rfind('_');
+  const std::string id = first != std::string::npos && last > first
+                             ? "lin_" + f.interop_id.substr(first + 1, last - first - 1) + "_scene"
+                             : "";
+  std::string by_primaries;
+  for (const std::string& name : names()) {
+    try {
+      const ColourSpaceFacts& o = facts(name);
+      if (o.data || !o.linear || o.display_referred || !o.primaries_d65) continue;
+      if (!id.empty() && o.interop_id == id) return o.name;
+      if (by_primaries.empty() &&
+          chromaticity_difference(o.primaries_d65->data(), f.primaries_d65->data()) <= 2e-4)
+        by_primaries = o.name;
+    } catch (const Error&) {  // a space OCIO cannot convert: not a twin
     }
-    if (curve.empty()) return "";
-    const std::string id =
-        curve + "_" + k.primaries + (is_display_referred(space) ? "_display" : "_scene");
-    for (const char* known : kInteropIds)
-      if (id == known) return id;
-    return "";
   }
-  return "";
+  return by_primaries;
 }
 
 }  // namespace spectralize

@@ -33,16 +33,48 @@ class ColourTransform {
   std::string source_;
 };
 
+struct ColourFactsCache;  // colour_space.cpp
+
+/// What is known of one colour space of a config (docs/DESIGN.md §9), gathered once per space:
+/// what the config states (OCIO 2.5's interop ID, the encoding, data, its reference space) and
+/// what one OCIO processor to CIE XYZ measures (linearity, primaries and white, the transfer).
+struct ColourSpaceFacts {
+  std::string name;                     // canonical
+  std::string interop_id;               // "lin_ap1_scene", "data", ..., or "" when none is known
+  bool interop_id_from_config = false;  // stated by the config (OCIO 2.5); else measured
+  std::string encoding;                 // the config's: "scene-linear", "sdr-video", "log", ...
+  bool data = false;                    // not colour: the config's isdata, a "data" encoding or ID
+  bool display_referred = false;        // defined by the config's display reference space
+  bool linear = false;                  // its conversion to XYZ is linear (measured)
+  // Red, green, blue and white as CIE xy, as XYZ-D65 sees them (the white adapted to D65):
+  // measured along each primary's direction, so any per-channel curve (sRGB, log) keeps them.
+  std::optional<std::array<float, 8>> primaries_d65;
+  // What a file's chromaticities attribute says: a known standard's own primaries and white
+  // (ACEScg: the ACES white), else primaries_d65.
+  std::optional<std::array<float, 8>> chromaticities;
+  std::optional<IccTransfer> transfer;  // linear, the sRGB curve or a pure gamma, if one
+};
+
 class ColourSpaces {
  public:
   /// Loads the config: `explicit_path` if non-empty, else $OCIO if set, else the config shipped
-  /// with spectralize (embedded). The file must be a regular file (a FIFO would block). Throws
-  /// Error naming the file and OCIO's reason. Cost: reading the file; the parse (~ms) only the
-  /// first time the process meets these bytes at this location.
+  /// with spectralize (embedded). A file must be a regular file (a FIFO would block); an
+  /// `ocio://` URI names one of OCIO's built-in configs (OCIO 2.2 and later; refused naming the
+  /// version before). Throws Error naming the file and OCIO's reason. Cost: reading the file; the
+  /// parse (~ms) only the first time the process meets these bytes at this location.
   static ColourSpaces load(const std::string& explicit_path = "");
 
-  /// Where the config came from, for reports: "shipped", "$OCIO (path)" or the path. Cost: O(1).
+  /// The OpenColorIO in use ("2.5.1"). Cost: O(1).
+  static std::string ocio_version();
+  /// True when this OpenColorIO has built-in configs (ocio://..., OCIO 2.2 and later). Cost: O(1).
+  static bool has_builtin_configs();
+
+  /// Where the config came from, for reports: "shipped", "$OCIO=path" or the path (or URI).
+  /// Cost: O(1).
   const std::string& origin() const { return origin_; }
+  /// What a built-in URI resolved to ("ocio://cg-config-v4.0.0_aces-v2.0_ocio-v2.5"), or "" for
+  /// a config file or the shipped one. Cost: O(1).
+  const std::string& builtin() const { return builtin_; }
   /// True for the config shipped with spectralize. Cost: O(1).
   bool shipped() const { return origin_ == "shipped"; }
   /// The files the config's transforms read (FileTransform LUTs: as written, and where the
@@ -64,32 +96,38 @@ class ColourSpaces {
   /// The space the config's file rules give `path` and the rule's name, or {"", ""} when only
   /// the default rule matches. Cost: O(rules).
   std::pair<std::string, std::string> file_rule(const std::string& path) const;
-  /// True when the config marks the space as data (not colour). Cost: O(1).
+  /// Everything known of a space (by name, alias or role), gathered the first time any copy of
+  /// this ColourSpaces asks; the reference stays valid while one does. Throws Error for an
+  /// unknown space. Cost: one OCIO processor and ~20 colours the first time, O(log spaces) after.
+  const ColourSpaceFacts& facts(std::string_view space) const;
+  /// True when the space is data, not colour (facts().data); false for an unknown name.
+  /// Cost: facts().
   bool is_data(std::string_view space) const;
-  /// True when the space's conversion to XYZ is linear (tested on colours: OCIO 2.1 cannot tell).
-  /// Cost: an OCIO processor.
+  /// True when the space's conversion to XYZ is linear (facts().linear). Cost: facts().
   bool is_linear(std::string_view space) const;
-  /// The CIE xy of the space's red, green and blue primaries and of its white (what an OpenEXR
-  /// `chromaticities` attribute holds): the standard's own for a known space (ACEScg: the ACES
-  /// white), else derived through OCIO (in the config's reference white); nullopt for data.
-  /// Cost: an OCIO processor.
+  /// What an OpenEXR `chromaticities` attribute says of the space (facts().chromaticities);
+  /// nullopt for data. Cost: facts().
   std::optional<std::array<float, 8>> chromaticities(std::string_view space) const;
-  /// The space's transfer function when it is one an ICC profile states exactly: linear, the
-  /// sRGB curve or a pure gamma (2.2, 563/256, 2.4, 1.8, 2.6), measured on greys through OCIO;
-  /// nullopt otherwise (log, PQ, data). Cost: an OCIO processor.
+  /// The space's transfer function when an ICC profile states it exactly: linear, the sRGB curve
+  /// or a pure gamma (2.2, 563/256, 2.4, 1.8, 2.6), measured on greys; nullopt otherwise (log,
+  /// PQ, data). Cost: facts().
   std::optional<IccTransfer> transfer(std::string_view space) const;
-  /// The colour interop ID (e.g. "lin_ap1_scene") of a space whose primaries, white and
-  /// encoding match a known one, or "": "<curve>_<primaries>_scene", or "..._display" for a
-  /// display-referred space (what an OCIO display's view writes, e.g. "srgb_rec709_display").
-  /// Cost: a few OCIO processors.
+  /// The colour interop ID (e.g. "lin_ap1_scene"): the config's own (OCIO 2.5), else measured
+  /// for a space whose primaries, white and encoding match a known one ("<curve>_<primaries>_
+  /// scene", "..._display" for a display-referred space, "data"), else "". Cost: facts().
   std::string interop_id(std::string_view space) const;
   /// True when the config defines the space by its display reference (the output of a
-  /// display's view, e.g. ACES configs' "sRGB - Display"). Cost: O(1).
+  /// display's view, e.g. ACES configs' "sRGB - Display"). Cost: facts().
   bool is_display_referred(std::string_view space) const;
-  /// The primaries and white as CIE xy as XYZ-D65 sees them (after the config's adaptation of
-  /// the space's white to D65), what a file's adapted chromaticities are compared with;
-  /// nullopt for data or a space without RGB primaries. Cost: an OCIO processor.
+  /// The primaries and white as CIE xy as XYZ-D65 sees them (facts().primaries_d65), what a
+  /// file's adapted chromaticities are compared with; nullopt for data or a space without RGB
+  /// primaries. Cost: facts().
   std::optional<std::array<float, 8>> primaries_d65(std::string_view space) const;
+  /// The linear, scene-referred space of the config with the primaries and white of `space`:
+  /// `space` itself when it is linear; else the space whose interop ID is "lin_<its primaries>_
+  /// scene"; else one whose measured primaries and white agree within 2e-4; "" when none is.
+  /// Cost: facts() of every space the first time.
+  std::string linear_twin(std::string_view space) const;
   /// The canonical name of a colour space given by name, alias or role (case-insensitive);
   /// throws Error listing the valid names. Cost: O(spaces).
   std::string resolve(std::string_view name) const;
@@ -113,9 +151,12 @@ class ColourSpaces {
 
  private:
   ColourTransform transform(std::string_view space, bool to_xyz) const;
-  std::shared_ptr<const void> config_;  // OCIO::ConstConfigRcPtr, type-erased
+  ColourSpaceFacts gather_facts(const std::string& space) const;
+  std::shared_ptr<const void> config_;       // OCIO::ConstConfigRcPtr, type-erased
+  std::shared_ptr<ColourFactsCache> facts_;  // shared by every load of the same config
   std::string origin_;
-  std::string file_;  // the config file ("" : the shipped one)
+  std::string file_;     // the config file ("": the shipped one or a built-in)
+  std::string builtin_;  // a built-in config's resolved URI ("": a file or the shipped one)
 };
 
 /// Chromaticities that are the same primaries: the largest difference in CIE xy of any of the

@@ -1,6 +1,7 @@
 #include "colour/colour_tags.h"
 
 #include "colour/icc_profile.h"
+#include "imagefile/oiio_compat.h"
 #include "imagefile/output_formats.h"
 #include "text/strings.h"
 
@@ -17,13 +18,17 @@ std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpa
                                           const std::string& space, const std::string& format,
                                           const std::string& file) {
   drop_colour_tags(spec);
-  spec.attribute("oiio:ColorSpace", space);
-  const std::string id = spaces.interop_id(space);
+  const ColourSpaceFacts& facts = spaces.facts(space);
+  const std::string& id = facts.interop_id;
+  const bool data = facts.data;
+  // OIIO 3 names a space by its interop ID here (and its writers act on it: an OpenEXR's
+  // colorInteropID, a PNG's gAMA or cICP); OIIO 2 keeps the config's name.
+  spec.attribute("oiio:ColorSpace",
+                 oiio_compat::kInteropColourSpaceNames && !id.empty() && !data ? id : space);
   if (!id.empty()) spec.attribute("colorInteropID", id);
-  const bool data = spaces.is_data(space);
   // Chromaticities describe the primaries and white whatever the transfer (sRGB - Texture
   // has Rec.709's).
-  const auto xy = data ? std::nullopt : spaces.chromaticities(space);
+  const auto xy = data ? std::nullopt : facts.chromaticities;
   if (xy) spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), xy->data());
   std::vector<std::string> warnings;
   // Where the format says the space: the output table's slot for it (docs/DESIGN.md §9).
@@ -49,7 +54,7 @@ std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpa
                        "'; readers will assume sRGB: write OpenEXR, TIFF, PNG or JPEG");
     return warnings;
   }
-  const auto transfer = spaces.transfer(space);
+  const auto& transfer = facts.transfer;
   std::vector<unsigned char> icc;
   if (xy && transfer)
     icc = icc_profile(*xy, *transfer, id.empty() ? space : space + " (" + id + ")");

@@ -18,12 +18,13 @@ namespace spectralize {
 void drop_colour_tags(OIIO::ImageSpec& spec);
 
 /// Tags `spec`'s RGB as `space` for a file of OIIO format `format` ("openexr", "tiff", ...)
-/// named `file`: oiio:ColorSpace (the config's name), colorInteropID when the space matches a
-/// known one, chromaticities when it has RGB primaries (whatever its transfer; not for data),
-/// and for TIFF, PNG and JPEG an ICC profile of its primaries, white and transfer when an ICC
-/// curve states it. Replaces any earlier tags. Returns warnings naming `file` and what readers
-/// will assume when the format cannot say the space (Radiance HDR beyond linear Rec.709, an
-/// unknown transfer, formats without ICC profiles). Cost: a few OCIO processors, ~1 ms.
+/// named `file`: oiio:ColorSpace (the config's name; with OIIO 3 its interop ID where known),
+/// colorInteropID when the space has one (the config's, or measured for a known one),
+/// chromaticities when it has RGB primaries (whatever its transfer; not for data), and for TIFF,
+/// PNG and JPEG an ICC profile of its primaries, white and transfer when an ICC curve states it.
+/// Replaces any earlier tags. Returns warnings naming `file` and what readers will assume when the
+/// format cannot say the space (Radiance HDR beyond linear Rec.709, an unknown transfer, formats
+/// without ICC profiles). Cost: a few OCIO processors, ~1 ms.
 std::vector<std::string> tag_colour_space(OIIO::ImageSpec& spec, const ColourSpaces& spaces,
                                           const std::string& space,
                                           const std::string& format = "openexr",

@@ -378,8 +378,17 @@ bool ExactTable::cell_blend(const int i[3], const double f[3], const Xyz& u, dou
     // Kuhn's simplices: walk from the lower corner along the axes in decreasing order of the
     // fractional coordinates; the weights are the gaps between them (exact linear
     // interpolation on the simplex holding the point).
+    // A sorting network of 2 or 3 axes (std::sort's introsort here drew GCC 16's
+    // -Warray-bounds: it cannot see that the range holds at most 3).
     int order[3] = {0, 1, 2};
-    std::sort(order, order + dims, [&](int a, int b) { return f[a] > f[b]; });
+    auto in_order = [&](int& a, int& b) {
+      if (f[b] > f[a]) std::swap(a, b);
+    };
+    in_order(order[0], order[1]);
+    if (dims == 3) {
+      in_order(order[1], order[2]);
+      in_order(order[0], order[1]);
+    }
     std::size_t n = base;
     double prev = 1;
     for (int k = 0; k <= dims; ++k) {

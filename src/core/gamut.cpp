@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/multiversion.h"
+
 namespace spectralize {
 
 namespace {
@@ -29,11 +31,9 @@ void for_each_pair_normal(std::span<const Xyz> w, Fn&& fn) {
 // Whether some half-space n_f . t <= offset_f + tol is violated. No early exit and no branch,
 // so the loop is vectorised (AVX2 and baseline x86-64, picked at load time): the solid of the
 // 5 nm grid has 6480 half-spaces, ~1 us.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-bool any_violated(const double* nx, const double* ny, const double* nz, const double* offsets,
-                  std::size_t n, const Xyz& t, double tol) {
+SPECTRALIZE_MULTIVERSION_AVX2 bool any_violated(const double* nx, const double* ny,
+                                                const double* nz, const double* offsets,
+                                                std::size_t n, const Xyz& t, double tol) {
   int violated = 0;
   for (std::size_t f = 0; f < n; ++f)
     violated |= nx[f] * t.X + ny[f] * t.Y + nz[f] * t.Z > offsets[f] + tol;

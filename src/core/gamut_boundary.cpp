@@ -6,6 +6,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "core/multiversion.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -155,12 +156,7 @@ std::vector<Plane> SolidBoundary::cutting(const Xyz& lower, const Xyz& upper, do
 
 // Thousands of planes per call (node classification, boundary vertices): vectorised, and
 // compiled for AVX2 as well as baseline x86-64, picked at load time.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(SPECTRALIZE_NO_MULTIVERSION)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
-double
-SolidBoundary::distance(const Xyz& u, std::size_t* facet) const {
+SPECTRALIZE_MULTIVERSION_V3 double SolidBoundary::distance(const Xyz& u, std::size_t* facet) const {
   const std::size_t n = d_.size();
   const double *x = nx_.data(), *y = ny_.data(), *z = nz_.data(), *d = d_.data();
   double best = -INFINITY;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/bounded_projection.h"
+#include "core/multiversion.h"
 
 namespace spectralize {
 
@@ -292,12 +293,9 @@ double max_facet_ratio(const double* nx, const double* ny, const double* nz, con
 // and no branch, so the loop is vectorised (compiled for AVX2 and baseline x86-64, picked at
 // load time): ~1 us for the 5 nm grid's facets, where the exact depth costs ~5 us. The natural
 // zone needs only this test; the exact depth only beyond it (docs/DESIGN.md §6).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-bool deeper_than(const double* nx, const double* ny, const double* nz, const double* pos,
-                 const double* neg, std::size_t n, const Xyz& d, const Xyz& a, double upper,
-                 double g) {
+SPECTRALIZE_MULTIVERSION_AVX2 bool deeper_than(const double* nx, const double* ny, const double* nz,
+                                               const double* pos, const double* neg, std::size_t n,
+                                               const Xyz& d, const Xyz& a, double upper, double g) {
   int beyond = 0;
   for (std::size_t f = 0; f < n; ++f) {
     const double nd = nx[f] * d.X + ny[f] * d.Y + nz[f] * d.Z;

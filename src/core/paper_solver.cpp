@@ -7,6 +7,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "core/multiversion.h"
+
 namespace spectralize {
 
 namespace {
@@ -232,14 +234,7 @@ class CutFinder {
 // The three passes over all admissible triples, compiled for AVX2 and baseline x86-64 (AVX-512
 // measured slower: rows are short, ~10 triples)
 // and picked at load time, so one binary is fast on any machine.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(SPECTRALIZE_NO_MULTIVERSION)
-#define SPECTRALIZE_MULTIVERSION __attribute__((target_clones("avx2", "default")))
-#else
-#define SPECTRALIZE_MULTIVERSION
-#endif
-
-SPECTRALIZE_MULTIVERSION
+SPECTRALIZE_MULTIVERSION_AVX2
 std::size_t sum_all(const Fan& f, Accumulators& a, double* out) {
   std::size_t count = 0;
   a.reset(f.m);
@@ -253,7 +248,7 @@ std::size_t sum_all(const Fan& f, Accumulators& a, double* out) {
   return count;
 }
 
-SPECTRALIZE_MULTIVERSION
+SPECTRALIZE_MULTIVERSION_AVX2
 void record_max_densities(const Fan& f, FloatBuffer& out) {
   out.clear();
   for_each_admissible_row(
@@ -266,7 +261,7 @@ void record_max_densities(const Fan& f, FloatBuffer& out) {
       [](std::size_t) {});
 }
 
-SPECTRALIZE_MULTIVERSION
+SPECTRALIZE_MULTIVERSION_AVX2
 std::size_t sum_below(const Fan& f, const float* md, float cut, Accumulators& a, double* out) {
   std::size_t at = 0, kept = 0;
   a.reset(f.m);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/multiversion.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -108,12 +109,9 @@ inline void SpectralTable::pixel(const Xyz& xyz_d65, float* out, PixelResult& re
 
 // The blend loops vectorise well: compiled for AVX2 (with FMA) and baseline x86-64, picked at
 // load time.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(SPECTRALIZE_NO_MULTIVERSION)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
-void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n, float* out,
-                            PixelResult* results, std::size_t stride) {
+SPECTRALIZE_MULTIVERSION_V3 void SpectralTable::spectra(const Xyz* xyz_d65, std::size_t n,
+                                                        float* out, PixelResult* results,
+                                                        std::size_t stride) {
   if (stride == 0) stride = bands_;
   for (std::size_t i = 0; i < n; ++i) pixel(xyz_d65[i], out + i * stride, results[i]);
 }

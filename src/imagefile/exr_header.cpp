@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -19,7 +20,8 @@ enum class Parse { complete, incomplete, malformed };
 Parse parse_header(const std::vector<char>& b, std::size_t got,
                    std::map<std::string, std::string>& out,
                    std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
-                   std::map<std::string, double>* doubles) {
+                   std::map<std::string, double>* doubles,
+                   std::map<std::string, std::array<std::int32_t, 4>>* boxes) {
   const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
   if (got < 8) return Parse::incomplete;
   if (std::memcmp(b.data(), magic, 4) != 0) return Parse::malformed;
@@ -50,6 +52,11 @@ Parse parse_header(const std::vector<char>& b, std::size_t got,
       std::memcpy(&v, b.data() + at, 8);  // little-endian, as OpenEXR stores it
       (*doubles)[name] = v;
     }
+    if (type == "box2i" && size == 16 && boxes) {
+      std::array<std::int32_t, 4> v;
+      std::memcpy(v.data(), b.data() + at, 16);  // xMin, yMin, xMax, yMax, little-endian
+      (*boxes)[name] = v;
+    }
     if (extents) (*extents)[name] = {at, size};
     at += size;
   }
@@ -63,7 +70,8 @@ namespace {
 // Reads the header of `path` (64 KB, more only if it goes on, up to 1 MB) and parses it.
 bool read_header(const std::string& path, std::map<std::string, std::string>& out,
                  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>>* extents,
-                 std::map<std::string, double>* doubles = nullptr) {
+                 std::map<std::string, double>* doubles = nullptr,
+                 std::map<std::string, std::array<std::int32_t, 4>>* boxes = nullptr) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return false;
   std::vector<char> b;
@@ -79,7 +87,8 @@ bool read_header(const std::string& path, std::map<std::string, std::string>& ou
     out.clear();
     if (extents) extents->clear();
     if (doubles) doubles->clear();
-    const Parse p = parse_header(b, got, out, extents, doubles);
+    if (boxes) boxes->clear();
+    const Parse p = parse_header(b, got, out, extents, doubles, boxes);
     complete = p == Parse::complete;
     if (complete || p == Parse::malformed || got < size) break;  // done, garbage, or cut short
   }
@@ -88,6 +97,7 @@ bool read_header(const std::string& path, std::map<std::string, std::string>& ou
     out.clear();
     if (extents) extents->clear();
     if (doubles) doubles->clear();
+    if (boxes) boxes->clear();
   }
   return complete;
 }
@@ -102,7 +112,7 @@ std::map<std::string, std::string> exr_string_attributes(const std::string& path
 
 ExrHeaderValues exr_header_values(const std::string& path) {
   ExrHeaderValues v;
-  read_header(path, v.strings, nullptr, &v.doubles);
+  read_header(path, v.strings, nullptr, &v.doubles, &v.boxes);
   return v;
 }
 

@@ -3,6 +3,7 @@
 // ingest needs to tell in microseconds whether an output is up to date (OIIO's full open costs
 // far more). Bounds-checked: a truncated or foreign file gives an empty map, never a crash.
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,10 +16,12 @@ namespace spectralize {
 /// Cost: one open and read of the header, ~10-50 us.
 std::map<std::string, std::string> exr_string_attributes(const std::string& path);
 
-/// The string and double attributes of the header, as exr_string_attributes reads them.
+/// The string, double and box2i (xMin, yMin, xMax, yMax: dataWindow, displayWindow) attributes
+/// of the header, as exr_string_attributes reads them.
 struct ExrHeaderValues {
   std::map<std::string, std::string> strings;
   std::map<std::string, double> doubles;
+  std::map<std::string, std::array<std::int32_t, 4>> boxes;
 };
 ExrHeaderValues exr_header_values(const std::string& path);
 

@@ -13,6 +13,7 @@
 #include <cctype>
 #include <vector>
 
+#include "imagefile/openexr_compat.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -103,10 +104,9 @@ Imf::Header oiio_header(const OIIO::ImageSpec& spec, const std::string& file) {
 
 int exr_block_rows(const std::string& compression) {
   const std::string name = split_compression(compression).first;
-  if (name == "zip" || name == "pxr24") return 16;
-  if (name == "piz" || name == "b44" || name == "b44a" || name == "dwaa") return 32;
-  if (name == "dwab") return 256;
-  return 1;  // none, rle, zips
+  for (const ExrCompression& c : exr_compressions())
+    if (c.name == name) return c.block_rows;
+  return 1;
 }
 
 struct ExrScanlineWriter::Impl {

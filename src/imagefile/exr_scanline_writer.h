@@ -14,8 +14,9 @@
 namespace spectralize {
 
 /// The rows of one compression block of an OpenEXR compression named as OIIO names it ("zip",
-/// "zip:4", "piz", "dwaa:45", ...): 1 (none, rle, zips), 16 (zip, pxr24), 32 (piz, b44, b44a,
-/// dwaa) or 256 (dwab). Cost: O(1).
+/// "zip:4", "piz", "dwaa:45", ...), as OpenEXR states them: 1 (none, rle, zips), 16 (zip,
+/// pxr24), 32 (piz, b44, b44a, dwaa, htj2k32) or 256 (dwab, htj2k256); 1 for a name it does not
+/// know. Cost: O(compressions).
 int exr_block_rows(const std::string& compression);
 
 class ExrScanlineWriter {

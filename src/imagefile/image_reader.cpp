@@ -4,6 +4,7 @@
 #include <cstring>
 #include <thread>
 
+#include "imagefile/exr_header.h"
 #include "imagefile/exr_scanline_reader.h"
 #include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
@@ -18,6 +19,13 @@ namespace {
 // width.
 constexpr std::size_t kChunkBudget = 16u << 20;
 
+// Throws when a declared size is beyond ImageLimits, naming it.
+void check_declared_size(const std::string& where, long long w, long long h) {
+  if (w > ImageLimits::kMaxSide || h > ImageLimits::kMaxSide || w * h > ImageLimits::kMaxPixels)
+    throw Error(where + "declares " + std::to_string(w) + "x" + std::to_string(h) +
+                " pixels, beyond spectralize's limit (sides up to 1048576, 2^32 pixels)");
+}
+
 }  // namespace
 
 ImageReader::ImageReader(const std::string& path, int output_channels, bool straight_alpha)
@@ -31,22 +39,26 @@ ImageReader::ImageReader(const std::string& path, int output_channels, bool stra
   // Straight alpha as stored: OIIO would otherwise multiply 8-bit encoded values by alpha
   // before the transfer function is undone (docs/DESIGN.md §9, "Alpha").
   if (straight_alpha) config.attribute("oiio:UnassociatedAlpha", 1);
+  const std::string where = quoted_path(path) + ": ";
   in_ = OIIO::ImageInput::open(path, &config);
   if (!in_) {
     const std::string why = OIIO::geterror();
-    throw Error(quoted_path(path) +
-                ": cannot read: " + (why.empty() ? "unknown format" : clip(why, 300)));
+    // OIIO 3 refuses an OpenEXR header declaring more pixels than the file could hold before
+    // spectralize sees its size: the same limit, in the same words, from the header itself.
+    if (const auto box = exr_header_values(path).boxes; box.count("dataWindow")) {
+      const auto& d = box.at("dataWindow");
+      check_declared_size(where, static_cast<long long>(d[2]) - d[0] + 1,
+                          static_cast<long long>(d[3]) - d[1] + 1);
+    }
+    throw Error(where + "cannot read: " + (why.empty() ? "unknown format" : clip(why, 300)));
   }
   spec_ = in_->spec();
-  const std::string where = quoted_path(path) + ": ";
   if (spec_.depth > 1) throw Error(where + "volume images are not supported");
   const long long w = spec_.width, h = spec_.height;
   if (w <= 0 || h <= 0 || spec_.nchannels <= 0)
     throw Error(where + "empty image (" + std::to_string(w) + "x" + std::to_string(h) + ", " +
                 std::to_string(spec_.nchannels) + " channels)");
-  if (w > ImageLimits::kMaxSide || h > ImageLimits::kMaxSide || w * h > ImageLimits::kMaxPixels)
-    throw Error(where + "declares " + std::to_string(w) + "x" + std::to_string(h) +
-                " pixels, beyond spectralize's limit (sides up to 1048576, 2^32 pixels)");
+  check_declared_size(where, w, h);
   if (spec_.nchannels > ImageLimits::kMaxChannels)
     throw Error(where + "declares " + std::to_string(spec_.nchannels) +
                 " channels, beyond the limit of 1024");

@@ -1,12 +1,17 @@
 #include "imagefile/output_formats.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 
+#include "imagefile/oiio_compat.h"
+#include "imagefile/openexr_compat.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 
@@ -16,26 +21,24 @@ namespace {
 
 using Slot = ColourSlot;
 
-// The stated facts about OIIO 2.4's writers, each checked by the unit test against files OIIO
-// writes and reads back (tests/unit/output_formats_test.cpp). Samples: the types a file keeps
-// as given (others are converted by the writer: uint16 to uint8, half to float, ...).
+// The stated facts about OIIO 2.4's and 3.1's writers, each checked by the unit test against
+// files OIIO writes and reads back (tests/unit/output_formats_test.cpp), in both lanes. Samples:
+// the types a file keeps as given (others are converted by the writer: uint16 to uint8, half to
+// float, ...). Where the two differ, oiio_compat.h says which this build has.
 std::vector<OutputFormat> stated_facts() {
-  const CompressionChoice zip9{"zip", 1, 9}, dwaa{"dwaa", 0, 0, true, true},
-      dwab{"dwab", 0, 0, true, true};
+  const CompressionChoice zip9{"zip", 1, 9};
   std::vector<OutputFormat> t;
   auto add = [&](OutputFormat f) { t.push_back(std::move(f)); };
   {
     OutputFormat f{"openexr", "OpenEXR", ".exr", {"half", "float"}};
-    f.compressions = {{"none"},
-                      {"rle"},
-                      {"zips", 1, 9},
-                      zip9,
-                      {"piz"},
-                      {"pxr24", 0, 0, false, true},
-                      {"b44", 0, 0, false, true},
-                      {"b44a", 0, 0, false, true},
-                      dwaa,
-                      dwab};
+    // Every compression this OpenEXR has (3.4: the lossless HTJ2K too); zip's and zips' level,
+    // DWA's quality.
+    for (const ExrCompression& c : exr_compressions()) {
+      CompressionChoice choice{c.name, 0, 0, false, c.lossy};
+      if (c.name == "zip" || c.name == "zips") choice.min_level = 1, choice.max_level = 9;
+      if (c.name == "dwaa" || c.name == "dwab") choice.quality = true;
+      f.compressions.push_back(choice);
+    }
     f.default_compression = "zip";
     f.colour = Slot::attributes;
     f.tile_multiple = 1;
@@ -45,7 +48,11 @@ std::vector<OutputFormat> stated_facts() {
   {
     OutputFormat f{"tiff", "TIFF", ".tif", {"uint8", "uint16", "float"}};
     // "jpeg" is left out: lossy, 8-bit 3-channel only, and silently zip for float samples.
-    f.compressions = {{"none"}, {"lzw"}, zip9, {"packbits"}};
+    // OIIO 3 compresses TIFF strips itself, at one zip level whatever is asked.
+    f.compressions = {{"none"},
+                      {"lzw"},
+                      oiio_compat::kTiffZipLevels ? zip9 : CompressionChoice{"zip"},
+                      {"packbits"}};
     f.default_compression = "zip";
     f.colour = Slot::icc_profile;
     f.tile_multiple = 16;  // libtiff's rule
@@ -83,6 +90,14 @@ std::vector<OutputFormat> stated_facts() {
     f.default_compression = "heic:50";  // unasked; "heic" alone is 75
     add(f);
   }
+  {
+    // OIIO 3 writes JPEG XL: every sample type; lossless unasked and at quality 100.
+    OutputFormat f{"jpegxl", "JPEG XL", ".jxl", {"uint8", "uint16", "half", "float"}};
+    f.compressions = {{"jpegxl", 1, 100}};
+    f.default_compression = "jpegxl";
+    f.colour = Slot::icc_profile;
+    add(f);
+  }
   add(OutputFormat{"dpx", "DPX", ".dpx", {"uint8", "uint16", "float"}, {}, "none"});
   add(OutputFormat{"targa", "Targa", ".tga", {"uint8"}, {{"none"}, {"rle"}}, "none"});
   add(OutputFormat{"bmp", "BMP", ".bmp", {"uint8"}, {}, "none"});
@@ -110,6 +125,27 @@ std::vector<OutputFormat> stated_facts() {
   refuse("null", "null", "writes nothing; write .exr");
   refuse("term", "term", "draws on a terminal, it writes no file; write .png");
   return t;
+}
+
+// Why OIIO's writer of `format` cannot write here, or "" when a tiny image writes.
+std::string probe_write(const std::string& format, const std::string& extension) {
+  std::string dir = "/tmp";
+  if (const char* t = std::getenv("TMPDIR"); t && *t) dir = t;
+  std::string path = dir + "/spectralize-probe-XXXXXX" + extension;
+  const int fd = ::mkstemps(path.data(), static_cast<int>(extension.size()));
+  if (fd < 0) return "";  // no place to try: let the real write say what goes wrong
+  ::close(fd);
+  std::string why;
+  auto out = OIIO::ImageOutput::create(format);
+  const unsigned char px[2 * 2 * 3] = {};
+  if (!out || !out->open(path, OIIO::ImageSpec(2, 2, 3, OIIO::TypeUInt8)) ||
+      !out->write_image(OIIO::TypeUInt8, px) || !out->close()) {
+    why = out ? out->geterror() : OIIO::geterror();
+    if (why.empty()) why = "the writer fails without a reason";
+  }
+  (void)OIIO::geterror();
+  ::unlink(path.c_str());
+  return why;
 }
 
 // What this OIIO build says about each format: whether it writes it at all, tiles, alpha,
@@ -214,7 +250,7 @@ std::string sample_type_name(OIIO::TypeDesc type) {
 }
 
 const OutputFormat& check_output(const std::string& path, const OutputRequest& r,
-                                 const std::string& prefix) {
+                                 std::string_view prefix) {
   // Appended, not "'" + clip(...): GCC 12 sees a bogus overflow in operator+(const char*, &&).
   std::string where(1, '\'');
   where.append(clip(path, 200)).append("': ");
@@ -230,7 +266,7 @@ const OutputFormat& check_output(const std::string& path, const OutputRequest& r
   if (!found)
     throw Error(where + "the " + writer->format_name() +
                 " format is not one spectralize knows what it stores; write .exr, .tif or .png");
-  check_format(*found, r, where, prefix);
+  check_format(*found, r, where, std::string(prefix));
   return *found;
 }
 
@@ -239,6 +275,8 @@ void check_format(const OutputFormat& f, const OutputRequest& r, const std::stri
   const std::string name(f.label);
   if (!f.available)
     throw Error(where + "this OpenImageIO writes no " + name + " files; write .exr or .png");
+  if (const std::string why = cannot_write_here(f); !why.empty())
+    throw Error(where + why + "; write .exr or .png");
   if (!f.refused.empty()) throw Error(where + name + " " + std::string(f.refused));
   if (!f.holds(r.samples)) {
     std::string kept;
@@ -334,6 +372,33 @@ void apply_compression(OIIO::ImageSpec& spec, const OutputFormat& f,
   } else if (!f.compressions.empty()) {
     spec.attribute("compression", text);  // OpenEXR, JPEG, WebP, HEIF, Targa: NAME[:LEVEL]
   }
+}
+
+std::string cannot_write_here(const OutputFormat& format) {
+  // HEIF's encoders are libheif plugins, which a system may lack (Debian 13 and later ship them
+  // in packages of their own): OIIO then lists the format and fails at the first image.
+  if (format.name != "heif" || !format.available) return "";
+  static const std::string why = [&] {
+    const std::string failure =
+        probe_write(std::string(format.name), std::string(format.extension));
+    return failure.empty() ? failure
+                           : "OpenImageIO's HEIF writer cannot encode here (" + clip(failure, 200) +
+                                 "): libheif has no HEVC or AV1 encoder (Debian: "
+                                 "libheif-plugin-x265 or libheif-plugin-aomenc)";
+  }();
+  return why;
+}
+
+std::string compression_help() {
+  std::string exr, others;
+  for (const OutputFormat& f : output_formats()) {
+    if (!f.available || !f.refused.empty() || f.compressions.empty()) continue;
+    if (f.name == "openexr")
+      exr = f.compression_names();
+    else
+      others += (others.empty() ? "" : "; ") + std::string(f.label) + " " + f.compression_names();
+  }
+  return "OpenEXR " + exr + " (plain zip is zip:4, dwaa dwaa:45); --to-rgb also " + others;
 }
 
 std::vector<std::string_view> all_compression_names() {

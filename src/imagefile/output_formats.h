@@ -5,9 +5,10 @@
 // work, so that a file is never quietly something else than asked (uint16 written as uint8,
 // half as float, an ignored --compression) and a refusal names the format and what to use
 // instead. Built from OpenImageIO's own answers where it gives them (which formats this build
-// writes, ImageOutput::supports: tiles, alpha, I/O proxies) and from stated facts about OIIO
-// 2.4's writers where it does not (the sample types each stores, compression names); the unit
-// test checks every stated fact against files OIIO writes and reads back.
+// writes, ImageOutput::supports: tiles, alpha, I/O proxies, and whether a writer whose codec
+// is a plugin can write here) and from stated facts about OIIO 2.4's and 3.1's writers where
+// it does not (the sample types each stores, compression names); the unit test checks every
+// stated fact against files OIIO writes and reads back.
 
 #include <OpenImageIO/imageio.h>
 
@@ -87,9 +88,10 @@ struct OutputRequest {
 /// format's, their multiple, the byte limit), alpha and the channel count. Throws Error
 /// "'<path>': <FORMAT> ...; <what to use instead>", options spelled for `prefix`'s users
 /// ("--" for the CLI: "--format uint8"; "" for Python: "format='uint8'"). Returns the format. Cost:
-/// O(table).
+/// O(table). (`prefix` is a view: a temporary string there would make the returned reference,
+/// to the static table, look dangling to GCC 13+'s -Wdangling-reference.)
 const OutputFormat& check_output(const std::string& path, const OutputRequest& request,
-                                 const std::string& prefix = "--");
+                                 std::string_view prefix = "--");
 
 /// check_output for a known format, the messages starting with `where` ("'x.exr': ").
 /// Cost: O(table).
@@ -102,6 +104,16 @@ void check_format(const OutputFormat& format, const OutputRequest& request,
 /// Cost: O(1).
 void apply_compression(OIIO::ImageSpec& spec, const OutputFormat& format,
                        const std::string& compression);
+
+/// Why this build cannot write `format` files after all, or "": OIIO lists HEIF, whose
+/// encoders are libheif plugins a system may lack; probed once, writing a 2 x 2 image, on the
+/// first need. Cost: that write once per process for HEIF, O(1) otherwise.
+std::string cannot_write_here(const OutputFormat& format);
+
+/// The compressions of every format this build writes, for --help: "OpenEXR none, rle, zips[:1-
+/// 9], ... (plain zip is zip:4, dwaa dwaa:45); --to-rgb also TIFF none, lzw, ...". Cost: the
+/// format table.
+std::string compression_help();
 
 /// Every compression name any format takes, and the level range of `name` across formats (for
 /// the settings schema's first check of --compression). Cost: O(table).

@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "imagefile/oiio_compat.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 
@@ -177,11 +178,11 @@ void install_cleanup_handlers() {
     // Only signals still at their default action: a host's own handlers (Python's SIGINT,
     // which raises KeyboardInterrupt and unwinds through the temporaries' destructors) stay.
     auto at_default = [](int sig) {
-      struct sigaction old {};
+      struct sigaction old = {};
       return ::sigaction(sig, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) &&
              old.sa_handler == SIG_DFL;
     };
-    struct sigaction sa {};
+    struct sigaction sa = {};
     sa.sa_handler = remove_temporaries_and_die;
     sigemptyset(&sa.sa_mask);
     // SA_ONSTACK: on the thread's alternate stack, so that a stack overflow is cleaned up too.
@@ -249,7 +250,7 @@ ReadFileScope::~ReadFileScope() {
 }
 
 void protect_input(const std::string& path, std::string_view what) {
-  struct stat st {};
+  struct stat st = {};
   if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
   std::lock_guard<std::mutex> lock(g_registry_mutex);
   if (g_scopes > 0) g_reads.emplace(existing_place(st), Read{path, std::string(what)});
@@ -268,7 +269,7 @@ std::string link_target(const std::string& path) {
 }
 
 FilePlace file_place(const std::string& path) {
-  struct stat st {};
+  struct stat st = {};
   if (::stat(path.c_str(), &st) == 0) return existing_place(st);
   // Not there yet: the nearest existing folder of where writing it would create it.
   fs::path p = link_target(path);
@@ -296,7 +297,7 @@ std::string link_on_the_way(const std::string& destination, const std::string& b
   fs::path at = below;
   for (const fs::path& part : rel) {
     at /= part;
-    struct stat st {};
+    struct stat st = {};
     if (::lstat(at.c_str(), &st) != 0) return "";  // made by the tool from here on
     if (S_ISLNK(st.st_mode))
       return quoted_path(destination) + ": " +
@@ -314,7 +315,7 @@ std::string conflict_locked(const std::string& destination, const FilePlace& pla
   const std::string where = quoted_path(destination) + ": ";
   if (place.rest.empty()) {
     for (const std::string& input : inputs) {
-      struct stat st {};
+      struct stat st = {};
       if (::stat(input.c_str(), &st) == 0 && existing_place(st) == place)
         return where + "is the input file " + quoted_path(input) + "; refusing to overwrite it";
     }
@@ -340,7 +341,7 @@ std::string check_destination(const std::string& destination, const WriteRules& 
   if (destination.empty()) return "an empty output file name";
   if (const int own = own_descriptor(destination); own >= 0) {
     if (!rules.allow_stream) return where + "cannot be a stream; give a file name";
-    struct stat st {};
+    struct stat st = {};
     if (::fstat(own, &st) != 0) return where + errno_text(errno);
     stream = true;
     // A descriptor the shell opened on a file: never one the run reads.
@@ -350,7 +351,7 @@ std::string check_destination(const std::string& destination, const WriteRules& 
     return conflict_locked(destination, place, inputs);
   }
   if (std::string why = link_on_the_way(destination, rules.own_below); !why.empty()) return why;
-  struct stat st {};
+  struct stat st = {};
   if (::lstat(destination.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
     // Write at the link's target, so the link keeps pointing at the new file (also when the
     // target does not exist yet, which weakly_canonical alone would not follow).
@@ -408,7 +409,7 @@ void remember_written(const FilePlace& place, const std::string& destination,
 }  // namespace
 
 bool FilePlan::read(const std::string& path, const std::string& what) {
-  struct stat st {};
+  struct stat st = {};
   if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return true;
   return reads_.emplace(existing_place(st), Entry{path, what}).second;
 }
@@ -450,7 +451,7 @@ void check_readable_file(const std::string& path, std::string_view what) {
     const int err = errno;
     throw FileError(where + (err == ENOENT ? std::string("no such file") : errno_text(err)));
   }
-  struct stat st {};
+  struct stat st = {};
   const int rc = ::fstat(fd, &st);
   ::close(fd);
   if (rc != 0) throw FileError(where + errno_text(errno));
@@ -480,7 +481,7 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     return n;
   }
   size_t pread(void* buf, size_t size, int64_t offset) override {
-    if (out_.kind_ == Kind::stream || !flush()) return 0;
+    if (out_.kind_ == Kind::stream || !write_gathered()) return 0;
     size_t got = 0;
     while (got < size) {
       const ssize_t n = ::pread(out_.fd_, static_cast<char*>(buf) + got, size - got,
@@ -498,7 +499,7 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
   }
   // Writers write headers a field at a time (an EXR header of 90 channels is ~700 writes):
   // contiguous writes are gathered up to kGather bytes, so each is not a system call. A failure
-  // shows when they go out (the next write, flush(), check(), commit()), as the system's reason.
+  // shows when they go out (the next write, flush, check(), commit()), as the system's reason.
   size_t pwrite(const void* buf, size_t size, int64_t offset) override {
     const char* data = static_cast<const char*>(buf);
     std::lock_guard<std::mutex> lock(mutex_);
@@ -525,9 +526,13 @@ class AtomicOutput::Proxy final : public OIIO::Filesystem::IOProxy {
     return size;
   }
   /// Writes out what was gathered; false (the error kept) when the system refused it.
-  bool flush() {
+  bool write_gathered() {
     std::lock_guard<std::mutex> lock(mutex_);
     return flush_locked();
+  }
+  // A writer's own flush writes out what was gathered; a failure is kept for check().
+  void flush() SPECTRALIZE_IOPROXY_FLUSH_CONST override {
+    const_cast<Proxy*>(this)->write_gathered();  // const on OIIO 2.x only (oiio_compat.h)
   }
   size_t size() const override { return static_cast<size_t>(end_.load()); }
   std::int64_t end() const { return end_.load(); }
@@ -611,7 +616,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rul
     if (fd_ < 0)
       throw FileError(where + "cannot create a file in '" + clip(dir.string(), 200) +
                       "': " + errno_text(errno));
-    struct stat st {};
+    struct stat st = {};
     if (::flock(fd_, LOCK_EX) == 0 && ::fstat(fd_, &st) == 0 && st.st_nlink > 0) {
       path_ = tmpl;
       break;
@@ -623,7 +628,7 @@ AtomicOutput::AtomicOutput(const std::string& destination, const WriteRules& rul
   }
   slot_ = register_temporary(path_);
   // The permissions a new file would get, or those of the file it replaces.
-  struct stat old {};
+  struct stat old = {};
   const mode_t mode =
       ::stat(target_.c_str(), &old) == 0 ? (old.st_mode & 07777) : (0666 & ~g_umask);
   ::fchmod(fd_, mode);
@@ -665,7 +670,7 @@ OIIO::Filesystem::IOProxy* AtomicOutput::proxy() {
 }
 
 void AtomicOutput::check() const {
-  if (proxy_) proxy_->flush();
+  if (proxy_) proxy_->write_gathered();
   if (!error_.empty()) throw FileError(quote(destination_, 200) + ": write failed: " + error_);
 }
 
@@ -676,9 +681,9 @@ void AtomicOutput::fail(const std::string& message, int err) const {
   if (err == ENOSPC || err == EDQUOT || err == EFBIG || err == EIO || err == EROFS) {
     reason = errno_text(err);
   } else if (kind_ == Kind::file && fd_ >= 0) {
-    struct statvfs vs {};
-    struct stat st {};
-    struct rlimit limit {};
+    struct statvfs vs = {};
+    struct stat st = {};
+    struct rlimit limit = {};
     if (::fstatvfs(fd_, &vs) == 0 && (vs.f_bavail == 0 || vs.f_bfree == 0))
       reason = errno_text(ENOSPC);
     else if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
@@ -698,7 +703,7 @@ void AtomicOutput::commit() {
   }
   // The file must hold exactly what was written: a short write that went unnoticed would
   // otherwise become a truncated file at the destination.
-  struct stat st {};
+  struct stat st = {};
   if (::fstat(fd_, &st) != 0) throw FileError(where + "write failed: " + errno_text(errno));
   const std::int64_t expected =
       std::max<std::int64_t>(static_cast<std::int64_t>(written_), proxy_ ? proxy_->end() : 0);

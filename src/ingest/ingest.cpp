@@ -114,7 +114,7 @@ void copy_checked(const std::string& input, const std::string& output, const str
 }
 
 bool same_copy(const std::string& output, const struct stat& in) {
-  struct stat st {};
+  struct stat st = {};
   return ::stat(output.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == in.st_size &&
          st.st_mtim.tv_sec == in.st_mtim.tv_sec && st.st_mtim.tv_nsec == in.st_mtim.tv_nsec;
 }
@@ -300,7 +300,7 @@ class FileIngest {
   Batch& batch_;
   const Clock::time_point start_ = Clock::now();
   Json r_;
-  struct stat st_ {};
+  struct stat st_ = {};
 };
 
 }  // namespace

@@ -70,7 +70,7 @@ struct Part {
 Part read_part(const fs::path& path, const ShardSpec& shard) {
   Part p{path.string(), shard, {}, {}, {}};
   const std::string where = quoted_path(p.path);
-  struct stat st {};
+  struct stat st = {};
   if (::stat(path.c_str(), &st) != 0) throw FileError(where + ": " + std::strerror(errno));
   if (!S_ISREG(st.st_mode))
     throw FileError(where + ": is not a regular file (a manifest part is one)");

@@ -62,7 +62,7 @@ bool is_image_name(const fs::path& p) {
 using Identity = std::pair<std::uint64_t, std::uint64_t>;  // device, inode
 
 std::optional<Identity> identity(const fs::path& p) {
-  struct stat st {};
+  struct stat st = {};
   if (::stat(p.c_str(), &st) != 0) return std::nullopt;
   return Identity{static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)};
 }
@@ -97,8 +97,7 @@ struct Found {
 // image file, followed through links). `folder` is set for a folder to walk.
 std::string not_an_input(const fs::path& p, bool& folder, bool& failure, std::string& kind) {
   folder = failure = false;
-  struct stat lst {
-  }, st{};
+  struct stat lst = {}, st = {};
   if (::lstat(p.c_str(), &lst) != 0) {
     failure = true;
     kind = "unexaminable";
@@ -165,7 +164,7 @@ class Walker {
     for (const fs::path& p : entries) {
       const std::string name = p.filename().string();
       if (name.rfind('.', 0) == 0) {
-        struct stat st {};
+        struct stat st = {};
         const bool dir_entry = ::lstat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
         const bool temporary = is_temporary_name(name);
         left_.push_back({p.string(), temporary ? "temporary" : "hidden",
@@ -438,7 +437,9 @@ IngestPlan plan_ingest(const IngestRequest& request) {
     plan.job = plan_to_spectral(request.settings, "", request.names);
     const ColourSpaces& spaces = plan.job.colour_spaces();
     plan.config_identity = spaces.content_identity();
-    if (const std::string config = config_path(request.settings); !config.empty())
+    // A built-in config (ocio://...) is no file: its content enters the identity above.
+    if (const std::string config = config_path(request.settings);
+        !config.empty() && config.rfind("ocio://", 0) != 0)
       files.read(config, "the OCIO config");
     for (const auto& [src, resolved] : spaces.referenced_files())
       if (!resolved.empty()) files.read(resolved, "a file of the OCIO config");

@@ -25,27 +25,6 @@ std::optional<Mat3> primaries_matrix(const ColourSpaces& spaces, std::string_vie
   return m;
 }
 
-namespace {
-
-// The xy chromaticities of a space's primaries and white, whatever its per-channel curve:
-// t(1, c, c) - t(c, c, c) is the red primary's direction times f(1) - f(c) for any curve f.
-std::optional<std::array<double, 8>> primaries_xy(const ColourSpaces& spaces,
-                                                  std::string_view space) {
-  const ColourTransform t = spaces.to_xyz(space);
-  const Xyz mid = t(0.5, 0.5, 0.5);
-  const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid,
-                       t(1, 1, 1)};
-  std::array<double, 8> xy{};
-  for (int k = 0; k < 4; ++k) {
-    const double sum = dirs[k].sum();
-    if (!(std::abs(sum) > 1e-12) || !dirs[k].finite()) return std::nullopt;
-    xy[2 * k] = dirs[k].X / sum, xy[2 * k + 1] = dirs[k].Y / sum;
-  }
-  return xy;
-}
-
-}  // namespace
-
 Mat3 table_frame(const ColourSpaces& spaces, std::string_view space) {
   std::optional<Mat3> m;
   try {
@@ -79,23 +58,14 @@ JobPlan plan_table(Settings settings, const std::string& output, const OptionNam
     throw Error(names("colorspace") + " " + quote(s.colorspace) +
                 ": not an RGB colour space (data, or no RGB -> XYZ conversion)");
   if (!is_matrix_space(spaces, s.colorspace, *m)) {
-    // The linear space of the config with the same primaries and white, to name it.
-    std::string linear;
-    const auto want = primaries_xy(spaces, s.colorspace);
-    for (const std::string& name : want ? spaces.names() : std::vector<std::string>{}) {
-      if (name == s.colorspace || spaces.is_data(name)) continue;
-      try {
-        const std::optional<Mat3> other = primaries_matrix(spaces, name);
-        const auto xy = primaries_xy(spaces, name);
-        if (!other || !xy) continue;
-        double diff = 0;
-        for (int k = 0; k < 8; ++k) diff = std::max(diff, std::abs((*xy)[k] - (*want)[k]));
-        if (diff <= 2e-4 && is_matrix_space(spaces, name, *other)) {
-          linear = name;
-          break;
-        }
-      } catch (const Error&) {
-      }
+    // The linear space of the config with the same primaries and white, to name it (by its
+    // interop ID where the config states them), when it is a matrix space itself.
+    std::string linear = spaces.linear_twin(s.colorspace);
+    if (!linear.empty() && linear != s.colorspace) {
+      const std::optional<Mat3> other = primaries_matrix(spaces, linear);
+      if (!other || !is_matrix_space(spaces, linear, *other)) linear.clear();
+    } else {
+      linear.clear();
     }
     throw Error(names("colorspace") + " " + quote(s.colorspace) +
                 ": not linear RGB (its conversion to XYZ is not a 3x3 matrix: a transfer curve "

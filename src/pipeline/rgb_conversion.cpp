@@ -75,7 +75,7 @@ RgbConversion::RgbConversion(const JobPlan& plan, const OIIO::ImageSpec& spec,
   if (!format) return;  // a reader: nothing is written
   apply_compression(p.spec, *format, settings.compression);
   // The tags this format can hold (an ICC profile for TIFF, PNG, JPEG), or a warning.
-  if (const std::string written = p.spec.get_string_attribute("oiio:ColorSpace"); !written.empty())
+  if (const std::string written = rgb_output_space(settings, spaces); !written.empty())
     for (const std::string& w :
          tag_colour_space(p.spec, spaces, written, rep.output_format, output))
       warn(w);

@@ -243,15 +243,18 @@ OIIO::ImageSpec rgb_output_spec(const OIIO::ImageSpec& source, const SpectralLay
     record("illuminant");
     record("reflected");
   }
-  if (settings.display.empty()) {
-    tag_colour_space(spec, spaces, settings.colorspace);
-  } else {
-    const std::string space = spaces.display_colour_space(settings.display, settings.view);
-    if (!space.empty()) tag_colour_space(spec, spaces, space);
+  if (const std::string space = rgb_output_space(settings, spaces); !space.empty())
+    tag_colour_space(spec, spaces, space);
+  if (!settings.display.empty()) {
     record("display");
     if (!settings.view.empty()) record("view");
   }
   return spec;
+}
+
+std::string rgb_output_space(const Settings& settings, const ColourSpaces& spaces) {
+  return settings.display.empty() ? settings.colorspace
+                                  : spaces.display_colour_space(settings.display, settings.view);
 }
 
 }  // namespace spectralize

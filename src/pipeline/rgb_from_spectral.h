@@ -79,6 +79,10 @@ class RgbFromSpectral {
 /// Cost: O(1).
 OIIO::TypeDesc rgb_sample_type(const Settings& settings);
 
+/// The colour space of the RGB --to-rgb writes: settings.colorspace, or the space the OCIO
+/// display's view ends in ("" when the config names none). Cost: O(1).
+std::string rgb_output_space(const Settings& settings, const ColourSpaces& spaces);
+
 /// The spec of RGB(A) written from a spectral `source` (its windows), tagged with its colour
 /// space (or display), with the settings that made it; used by --to-rgb and the plugin.
 /// Cost: O(attributes).

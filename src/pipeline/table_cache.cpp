@@ -41,7 +41,7 @@ std::string load_table_cache(SpectralTable& table, const std::string& file,
                              const std::string& key) {
   const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return errno == ENOENT ? "" : std::string("cannot read: ") + std::strerror(errno);
-  struct stat st {};
+  struct stat st = {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
     return S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file";

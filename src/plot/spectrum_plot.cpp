@@ -21,6 +21,7 @@
 #include "colour/colour_space.h"
 #include "colour/colour_tags.h"
 #include "imagefile/image_file_output.h"
+#include "imagefile/oiio_compat.h"
 #include "imagefile/output_formats.h"
 #include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
@@ -465,8 +466,7 @@ std::vector<std::string> write_raster(const SpectrumPlot& plot, const std::strin
       OIIO::ImageSpec(kPlotWidth * kSupersample, kPlotHeight * kSupersample, 3, OIIO::TypeHalf));
   RasterPainter painter(big, font);
   draw(plot, painter);
-  OIIO::ImageBuf small = OIIO::ImageBufAlgo::resize(
-      big, "box", 1.0f, OIIO::ROI(0, kPlotWidth, 0, kPlotHeight, 0, 1, 0, 3));
+  OIIO::ImageBuf small = box_resize(big, OIIO::ROI(0, kPlotWidth, 0, kPlotHeight, 0, 1, 0, 3));
   if (small.has_error()) throw Error("'" + path + "': cannot filter the plot: " + small.geterror());
 
   // The drawing's encoded space for 8-bit formats; the linear space for the others (OpenEXR,

@@ -58,7 +58,7 @@ int max_recipe_depth() {
 
 RecipeChainLink::RecipeChainLink(const std::string& path) {
   Chain& c = t_chain;
-  struct stat st {};
+  struct stat st = {};
   const bool known = ::stat(path.c_str(), &st) == 0;
   const std::pair<dev_t, ino_t> id{known ? st.st_dev : 0, known ? st.st_ino : 0};
   std::vector<std::string> paths;

@@ -189,14 +189,12 @@ std::vector<SettingSpec> make_schema() {
                "of the result)",
                kColor, false, false,
                [](Settings& v, std::string_view t) {
-                 v.json = choice(t, {"csv", "json"}) == "json";
+                 const std::string_view c = choice(t, {"csv", "json"});
+                 v.json = c == "json";
                },
                [](const Settings& v) { return std::string(v.json ? "json" : "csv"); }, nullptr});
   s.push_back({"compression", "--compression", "NAME", "",
-               "Compression, NAME[:LEVEL] as the output's format takes it: OpenEXR zip, zips, "
-               "piz, rle, pxr24, b44, b44a, dwaa, dwab, none (zip:1..9, plain zip is zip:4; "
-               "dwaa:45); --to-rgb also TIFF none, lzw, zip, packbits; PNG zip:0..9; JPEG "
-               "jpeg:1..100; WebP webp:1..100",
+               "Compression, NAME[:LEVEL] as the output's format takes it: " + compression_help(),
                kFileCommands, true, false,
                [](Settings& v, std::string_view t) { v.compression = parse_compression(t); },
                [](const Settings& v) { return v.compression; }, nullptr,

@@ -56,9 +56,9 @@ int run_ingest_command(const Options& opt) {
   if (request.sources.empty() && request.inputs_from.empty())
     throw UsageError{"ingest: give the files, folders or patterns to ingest (or --inputs-from)"};
   // The config and colour space are command-line values: checked before any work.
-  request.settings = usage_checked("", [&] {
-    return plan_to_spectral(request.settings, "", OptionNames{"--", "-o"}).settings;
-  });
+  const OptionNames names{"--", "-o"};
+  request.settings =
+      usage_checked("", [&] { return plan_to_spectral(request.settings, "", names).settings; });
   const ShardSpec shard = usage_checked("", [&] {
     if (!opt.shard.empty()) return with_context("--shard", [&] { return parse_shard(opt.shard); });
     return slurm_shard().value_or(ShardSpec{});

@@ -1,6 +1,7 @@
 // spectralize: RGB colours and images to exact spectra (see README.md).
 
 #include <OpenImageIO/argparse.h>
+#include <OpenImageIO/oiioversion.h>
 #include <fmt/core.h>
 #include <sys/ioctl.h>
 #include <unistd.h>
@@ -10,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "colour/colour_space.h"
+#include "imagefile/openexr_compat.h"
 #include "imagefile/safe_output.h"
 #include "plot/spectrum_plot.h"
 #include "spectralize/core/error.h"
@@ -89,7 +92,7 @@ std::string commands_list(unsigned commands) {
 }
 
 int terminal_width() {
-  struct winsize w {};
+  struct winsize w = {};
   if (::isatty(STDOUT_FILENO) && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 40)
     return w.ws_col;
   return 100;
@@ -171,7 +174,9 @@ void print_help() {
   print_entry("-v", "Verbose: stages, colour-space choice, cache statistics", width);
   print_entry("-q", "Quiet: no progress, summary or warnings", width);
   print_entry("-h, --help", "Print this help and exit", width);
-  print_entry("--version", "Print the version and exit", width);
+  print_entry("--version",
+              "Print the version (and the OpenImageIO, OpenColorIO and OpenEXR it uses) and exit",
+              width);
   print_entry("--", "Everything after it is an input file, even if it starts with '-'", width);
   print_entry("--force", "ingest: convert even what is up to date", width);
   print_entry("--merge", "ingest: merge the shards' manifests of -o DESTDIR into one", width);
@@ -346,7 +351,10 @@ int main(int argc, const char** argv) {
       return kExitOk;
     }
     if (version) {
-      fmt::print("spectralize " SPECTRALIZE_VERSION "\n");
+      // The libraries whose behaviour the output depends on, as OIIO tools' --version says its own.
+      fmt::print("spectralize " SPECTRALIZE_VERSION
+                 "\nOpenImageIO {}, OpenColorIO {}, OpenEXR {}\n",
+                 OIIO_VERSION_STRING, ColourSpaces::ocio_version(), openexr_version());
       check_stdout();
       return kExitOk;
     }

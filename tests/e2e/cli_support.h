@@ -79,6 +79,19 @@ inline Run run(const std::string& args, const std::string& env = "") {
   return r;
 }
 
+/// The OpenColorIO the binary uses, from its --version ("... OpenColorIO 2.5.1, ..."), and
+/// whether it has OCIO's built-in configs (ocio://..., 2.2 and later).
+inline std::string ocio_version() {
+  std::smatch m;
+  const std::string out = run("--version").out;
+  return std::regex_search(out, m, std::regex("OpenColorIO ([0-9.]+)")) ? m[1].str() : "";
+}
+inline bool ocio_has_builtin_configs() {
+  int major = 0, minor = 0;
+  std::sscanf(ocio_version().c_str(), "%d.%d", &major, &minor);
+  return major > 2 || (major == 2 && minor >= 2);
+}
+
 #ifdef SPECTRALIZE_PLUGIN_DIR
 /// Runs a stock OIIO tool (with our plugin) and returns its exit code and output (stdout and
 /// stderr together, in `out`).
@@ -126,7 +139,7 @@ inline Measured run_measured(const std::string& command) {
     _exit(127);
   }
   int status = 0;
-  struct rusage usage {};
+  struct rusage usage = {};
   if (wait4(pid, &status, 0, &usage) != pid) return m;
   m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   m.peak_mb = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux

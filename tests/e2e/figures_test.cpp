@@ -7,8 +7,11 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -93,12 +96,26 @@ TEST(Figures, WritesThePapersFiguresAndMeasuresTheSphereHalves) {
   EXPECT_GT(max_mirror_difference(e2e::read_exr(out + "/fig6_sphere_surface_F11.png")), 5.0);
 }
 
+// The largest difference of two images' samples (in 8-bit steps for 8-bit files), or +inf when
+// their sizes or channels differ or one does not read.
+double max_sample_difference(const std::string& a, const std::string& b) {
+  const e2e::Exr x = e2e::read_exr(a), y = e2e::read_exr(b);
+  if (x.width == 0 || x.width != y.width || x.height != y.height || x.channels != y.channels)
+    return std::numeric_limits<double>::infinity();
+  double worst = 0;
+  for (std::size_t i = 0; i < x.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(static_cast<double>(x.pixels[i]) - y.pixels[i]) * 255.0);
+  return worst;
+}
+
 // Truth (README): the figures shown in the README are what `make docs-figures` makes from the
-// current code, byte for byte, and making them twice gives the same bytes.
-TEST(Figures, ReadmeCopiesAreReproducedByteForByte) {
+// current code: the same pixels, and making them twice gives the same bytes. (Pixels, not
+// bytes, against the committed copies: each OpenImageIO writes its own PNG container, e.g. 3.x
+// adds an eXIf chunk and orders the colour chunks otherwise.)
+TEST(Figures, ReadmeCopiesAreReproducedPixelForPixel) {
 #ifdef SPECTRALIZE_SANITIZED
   // The copies are made by the release build; -O1 rounds differently in the last bits.
-  GTEST_SKIP() << "byte-for-byte copies are checked by the release build";
+  GTEST_SKIP() << "the copies are checked by the release build";
 #endif
   e2e::Scratch a("figs_a"), b("figs_b");
   ASSERT_EQ(run_figures("figures " + a.dir.string(), a).exit_code, 0);
@@ -117,7 +134,7 @@ TEST(Figures, ReadmeCopiesAreReproducedByteForByte) {
               ("oiiotool --nosoftwareattrib " + (a / name) + " --resize 256x0 -o " + made).c_str()),
           0);
     }
-    EXPECT_EQ(e2e::slurp(made), e2e::slurp(entry.path().string()))
+    EXPECT_EQ(max_sample_difference(made, entry.path().string()), 0.0)
         << "run make docs-figures and commit docs/figures";
   }
 }
@@ -232,8 +249,11 @@ void check_tables(const nlohmann::json& doc, const std::string& md, const e2e::R
 
 // One row's summary of one set: {"delta_e": {light: {median, p95, max}}, ...}; the row of the
 // registered model `name_part`, else the first whose name contains it.
-const nlohmann::json& summary_of(const nlohmann::json& doc, const std::string& name_part,
-                                 const std::string& space, const std::string& set) {
+// Views, not strings: a temporary string argument would make the returned reference (into
+// `doc`) look dangling to GCC 13+'s -Wdangling-reference.
+const nlohmann::json& summary_of(const nlohmann::json& doc, std::string_view name_view,
+                                 std::string_view space_view, std::string_view set_view) {
+  const std::string name_part(name_view), space(space_view), set(set_view);
   const auto& rows = doc.at("configurations");
   const bool model = std::any_of(rows.begin(), rows.end(),
                                  [&](const auto& c) { return c.at("model") == name_part; });

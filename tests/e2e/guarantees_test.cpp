@@ -544,7 +544,7 @@ TEST(Guarantees, ExitCodesFollowOnePolicy) {
   for (const std::string& args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/o.exr",
                                   "ingest " + (s / "lib") + " -o " + mnt + "/lib",
                                   "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
-    { std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x'); }
+    std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x') << std::flush;
     auto r = run("-q " + args);
     EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
     EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << args << ": " << r.err;
@@ -580,7 +580,7 @@ TEST(Guarantees, OneFileGivenTwiceIsOneInput) {
     for (const Json& rec : m)
       if (rec.contains("status")) {
         EXPECT_NE(rec["status"], "failed") << rec.dump();
-        struct stat st {};
+        struct stat st = {};
         ASSERT_EQ(::stat((s.dir / rec["input"].get<std::string>()).c_str(), &st), 0);
         EXPECT_TRUE(inputs.insert({st.st_dev, st.st_ino}).second) << rec.dump();
       }
@@ -603,8 +603,7 @@ TEST(Guarantees, TinyFilesCostLittleEach) {
   constexpr int kFiles = 300;
   for (int i = 1; i < kFiles; ++i)
     fs::copy_file(s / "tiny/t.png", s / ("tiny/t" + std::to_string(i) + ".png"));
-  struct rusage before {
-  }, after{};
+  struct rusage before = {}, after = {};
   ::getrusage(RUSAGE_CHILDREN, &before);
   const auto r = run("ingest " + (s / "tiny") + " -o " + (s / "out") + " -q --jobs 1");
   ::getrusage(RUSAGE_CHILDREN, &after);

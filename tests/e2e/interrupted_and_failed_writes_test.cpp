@@ -147,7 +147,7 @@ TEST(FailedWrites, FullDiskLeavesNothing) {
   for (const std::string& args : {kImages + "hdri_sunset_256x128.exr -o " + mnt + "/out.exr",
                                   "--color 0.2,0.5,0.1 --color 0.1,0.1,0.9 -o " + mnt + "/p.tif"}) {
     // Fill the disk but for a few KB first.
-    { std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x'); }
+    std::ofstream(mnt + "/filler") << std::string(1000 * 1024, 'x') << std::flush;
     auto r = run("-q " + args);
     EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
     EXPECT_NE(r.err.find(mnt), std::string::npos) << r.err;

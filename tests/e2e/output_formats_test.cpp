@@ -82,7 +82,7 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"HdrCompression", "o.hdr --compression piz",
                 "Radiance HDR has no compression to choose"},
         Refusal{"BmpCompression", "o.bmp --compression rle", "BMP has no compression to choose"},
-        Refusal{"TiffJpeg", "o.tif --compression jpeg", "TIFF takes none, lzw, zip[:1-9]"},
+        Refusal{"TiffJpeg", "o.tif --compression jpeg", "TIFF takes none, lzw, zip"},
         Refusal{"PngTiles", "o.png --tile 64", "PNG files are not tiled (tiles: .exr, .tif)"},
         Refusal{"WebpTiles", "o.webp --tile 64", "WebP files are not tiled"},
         Refusal{"TiffOddTiles", "o.tif --tile 40", "TIFF tiles are multiples of 16 pixels"}),

@@ -185,7 +185,23 @@ const std::vector<Expected>& expected() {
   return table;
 }
 
-void check_library(const std::string& config, bool aces) {
+// Which config a library is decided under.
+enum class Config { shipped, aces_file, builtin_cg, builtin_studio };
+
+// The built-in configs of OCIO 2.2 and later name the sRGB texture space "sRGB Encoded Rec.709
+// (sRGB)" ("sRGB - Texture" is its alias), and the ACES 2.0 studio config has a file rule 'EXR'
+// (*.exr: ACES2065-1) that decides an OpenEXR without colour metadata; the other names are the
+// ACES CG config file's.
+std::string expected_space(const Expected& e, Config config) {
+  if (config == Config::shipped) return e.shipped_space;
+  if (config == Config::aces_file) return e.aces_space;
+  if (e.aces_space == "sRGB - Texture") return "sRGB Encoded Rec.709 (sRGB)";
+  const bool exr = e.file.size() > 4 && e.file.compare(e.file.size() - 4, 4, ".exr") == 0;
+  if (config == Config::builtin_studio && exr && e.aces_space == "ACEScg") return "ACES2065-1";
+  return e.aces_space;
+}
+
+void check_library(const std::string& config, Config kind) {
   Scratch s;
   make_library(s);
   auto r = run("ingest " + (s / "lib") + " -o " + (s / "out") + " --config " + config +
@@ -205,7 +221,10 @@ void check_library(const std::string& config, bool aces) {
       continue;
     }
     if (e.status != "converted") continue;
-    EXPECT_EQ(text(j, "colorspace"), aces ? e.aces_space : e.shipped_space);
+    EXPECT_EQ(text(j, "colorspace"), expected_space(e, kind));
+    if (expected_space(e, kind) == "ACES2065-1") {
+      EXPECT_NE(text(j, "colorspace_reason").find("file rule 'EXR'"), std::string::npos);
+    }
     EXPECT_EQ(text(j, "mode"), e.mode);
     // The output says the same in its header and holds the mode's channels.
     const e2e::Exr o = e2e::read_exr(text(j, "output"));
@@ -263,9 +282,26 @@ void check_library(const std::string& config, bool aces) {
 }  // namespace
 
 TEST(StudioLibrary, EveryFileDecidedAsATdWouldUnderTheAcesConfig) {
-  check_library(kAcesConfig, true);
+  check_library(kAcesConfig, Config::aces_file);
 }
 
 TEST(StudioLibrary, EveryFileDecidedAsATdWouldUnderTheShippedConfig) {
-  check_library(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", false);
+  check_library(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio", Config::shipped);
+}
+
+// The same library under OCIO's built-in ACES configs, by URI: the ACES 2.0 studio config
+// (whose matte_paint role is the log ACEScct: integer textures take color_picking's sRGB; its
+// file rule makes untagged OpenEXR ACES2065-1) and the ACES 1.3 CG config of OCIO 2.4, both
+// stating interop IDs and encodings.
+TEST(StudioLibrary, EveryFileDecidedAsATdWouldUnderOcioBuiltInConfigs) {
+  if (!e2e::ocio_has_builtin_configs())
+    GTEST_SKIP() << "OpenColorIO " << e2e::ocio_version()
+                 << " has no built-in configs (2.2 and later do): the same decisions are checked "
+                    "under the ACES CG config file and the shipped config";
+  for (const auto& [uri, kind] :
+       {std::pair{"ocio://studio-config-latest", Config::builtin_studio},
+        std::pair{"ocio://cg-config-v2.2.0_aces-v1.3_ocio-v2.4", Config::builtin_cg}}) {
+    SCOPED_TRACE(uri);
+    check_library(uri, kind);
+  }
 }

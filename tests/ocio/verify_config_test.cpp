@@ -83,9 +83,16 @@ Mat3 npm(XY r, XY g, XY b, XY w) {
 
 // --------------------------------------------------------------------------
 
+// The CPU processor spectralize uses: lossless optimisation only (OCIO 2.2+ otherwise takes
+// approximate pow/log paths, ~5e-6 off; docs/DESIGN.md §3).
+OCIO::ConstCPUProcessorRcPtr exactCpu(const OCIO::ConstProcessorRcPtr& p) {
+  return p->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
+                                     OCIO::OPTIMIZATION_LOSSLESS);
+}
+
 void applyF32(const OCIO::ConstConfigRcPtr& cfg, const char* src, const char* dst,
               const double in[3], double out[3]) {
-  auto cpu = cfg->getProcessor(src, dst)->getDefaultCPUProcessor();
+  auto cpu = exactCpu(cfg->getProcessor(src, dst));
   float px[3] = {float(in[0]), float(in[1]), float(in[2])};
   cpu->applyRGB(px);
   for (int i = 0; i < 3; ++i) out[i] = px[i];
@@ -410,7 +417,7 @@ int main(int argc, char** argv) {
       dvt->setSrc(OCIO::ROLE_SCENE_LINEAR);
       dvt->setDisplay("sRGB");
       dvt->setView("Standard");
-      auto cpu = cfg->getProcessor(dvt)->getDefaultCPUProcessor();
+      auto cpu = exactCpu(cfg->getProcessor(dvt));
       float px[3] = {0.18f, 0.18f, 0.18f};
       cpu->applyRGB(px);
       const double e = 1.055 * std::pow(0.18, 1.0 / 2.4) - 0.055;

@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -95,7 +96,7 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-TEST(ExrHeader, StringsAndDoublesWrittenByOpenExrReadBackExactly) {
+TEST(ExrHeader, StringsDoublesAndWindowsWrittenByOpenExrReadBackExactly) {
   TempDir t;
   const Strings strings = {{"spectralize:mode", "emission"},
                            {"spectralize:wavelengths", "380:780:5"},
@@ -117,6 +118,11 @@ TEST(ExrHeader, StringsAndDoublesWrittenByOpenExrReadBackExactly) {
     EXPECT_TRUE(same_bits(v.doubles.at(name), value)) << name << ": " << v.doubles.at(name);
   }
   EXPECT_EQ(exr_string_attributes(path), strings);
+  // The windows, as OpenEXR wrote them for a 4 x 3 image: (0, 0) to (3, 2).
+  const std::array<std::int32_t, 4> window = {0, 0, 3, 2};
+  ASSERT_TRUE(v.boxes.count("dataWindow"));
+  EXPECT_EQ(v.boxes.at("dataWindow"), window);
+  EXPECT_EQ(v.boxes.at("displayWindow"), window);
 }
 
 TEST(ExrHeader, AttributesWrittenByOpenImageIoReadBack) {

@@ -81,13 +81,14 @@ TEST(ImageReport, EachKindOfTroubleIsOneWarningInOrderCountingItsNoun) {
 }
 
 TEST(ImageReport, EveryCountAloneGivesItsOwnWarning) {
-  std::uint64_t PixelCounts::*const fields[] = {&PixelCounts::invalid,
-                                                &PixelCounts::alpha_invalid,
-                                                &PixelCounts::negative,
-                                                &PixelCounts::outside_locus,
-                                                &PixelCounts::outside_solid,
-                                                &PixelCounts::half_overflow,
-                                                &PixelCounts::brighter_than_white};
+  using Count = std::uint64_t PixelCounts::*;
+  const Count fields[] = {&PixelCounts::invalid,
+                          &PixelCounts::alpha_invalid,
+                          &PixelCounts::negative,
+                          &PixelCounts::outside_locus,
+                          &PixelCounts::outside_solid,
+                          &PixelCounts::half_overflow,
+                          &PixelCounts::brighter_than_white};
   for (auto field : fields) {
     PixelCounts c;
     c.*field = 1;

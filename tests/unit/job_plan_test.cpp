@@ -137,10 +137,9 @@ TEST(JobPlan, ASpectralInputIsDecidedByItsChannels) {
   EXPECT_EQ(e.settings.spectral.mode, Mode::emission);
   EXPECT_EQ(e.output_channels, 4);
   // Not spectral at all: refused, naming the file.
-  EXPECT_NE(message_of([&] {
-              planned_input(plan, "rgb.exr", spec_of({"R", "G", "B"}));
-            }).find("rgb.exr"),
-            std::string::npos);
+  auto plan_rgb = [&] { planned_input(plan, "rgb.exr", spec_of({"R", "G", "B"})); };
+  const std::string refused = message_of(plan_rgb);
+  EXPECT_NE(refused.find("rgb.exr"), std::string::npos) << refused;
 }
 
 }  // namespace

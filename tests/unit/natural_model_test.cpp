@@ -53,14 +53,14 @@ double link_roughness(const std::vector<double>& x, double upper) {
 // relative to max |g| (0 at the optimum).
 double stationarity_violation(const Spectralizer& sp, const std::vector<double>& x, double upper) {
   const std::size_t n = x.size();
-  std::vector<double> z(n), g(n, 0.0);
+  std::vector<double> z(n);
   for (std::size_t i = 0; i < n; ++i) z[i] = link(x[i], upper);
-  for (std::size_t i = 0; i + 1 < n; ++i) {
-    g[i] -= z[i + 1] - z[i];
-    g[i + 1] += z[i + 1] - z[i];
-  }
+  // g = D^T D z, element by element.
+  auto g = [&](std::size_t i) {
+    return (i > 0 ? z[i] - z[i - 1] : 0.0) - (i + 1 < n ? z[i + 1] - z[i] : 0.0);
+  };
   double scale = 0;
-  for (double v : g) scale = std::max(scale, std::abs(v));
+  for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(g(i)));
   if (scale < 1e-9) return 0;  // flat: the optimum trivially
   const auto& c = sp.weights().columns();
   // Weighted least squares: minimise sum (g_i - s_i c_i . lambda)^2, s_i = L'(z_i).
@@ -71,14 +71,14 @@ double stationarity_violation(const Spectralizer& sp, const std::vector<double>&
     const Xyz v = s * c[i];
     for (int r = 0; r < 3; ++r) {
       for (int q = 0; q < 3; ++q) a[r][q] += v[r] * v[q];
-      rhs[r] += v[r] * g[i];
+      rhs[r] += v[r] * g(i);
     }
   }
   const Xyz lambda = mul(inverse(a), rhs);
   double worst = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Xyz v = link_slope(x[i], upper) * c[i];
-    worst = std::max(worst, std::abs(g[i] - (v.X * lambda.X + v.Y * lambda.Y + v.Z * lambda.Z)));
+    worst = std::max(worst, std::abs(g(i) - (v.X * lambda.X + v.Y * lambda.Y + v.Z * lambda.Z)));
   }
   return worst / scale;
 }

@@ -18,9 +18,9 @@ static int failures = 0;
     }                                                           \
   } while (0)
 
-int main(int argc, char **argv) {
+int main(int argc, char** argv) {
   char error[256];
-  spz_table *table;
+  spz_table* table;
   spz_spectrum s;
   const float rgb[3] = {0.2f, 0.5f, 0.1f};
   const float lambda[4] = {400.0f, 512.5f, 655.0f, 900.0f};

@@ -316,7 +316,7 @@ TEST(SafeOutput, NonRegularFilesAreRefusedUnlessStreamsAreAllowed) {
   const ssize_t n = ::read(reader, buf, sizeof buf);
   ::close(reader);
   EXPECT_EQ(std::string(buf, n > 0 ? static_cast<std::size_t>(n) : 0), "through the pipe");
-  struct stat st {};
+  struct stat st = {};
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));
   EXPECT_EQ(names_in(t.dir), std::vector<std::string>{"pipe"});
@@ -342,7 +342,7 @@ TEST(SafeOutput, AWritePastTheFileSizeLimitIsAnErrorAndLeavesNothing) {
   TempDir t;
   const std::string dest = t / "big.exr";
   install_cleanup_handlers();  // SIGXFSZ ignored: the write fails with EFBIG instead
-  struct rlimit old {};
+  struct rlimit old = {};
   ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
   std::string why;
   {
@@ -371,7 +371,7 @@ TEST(SafeOutput, FailGivesTheSystemsReasonWhenOneIsKnown) {
     EXPECT_TRUE(contains(e.what(), std::strerror(ENOSPC))) << e.what();
   }
   // No reason known (room on the disk, no size limit): the writer's message as a plain Error.
-  struct rlimit lim {};
+  struct rlimit lim = {};
   ::getrlimit(RLIMIT_FSIZE, &lim);
   if (lim.rlim_cur != RLIM_INFINITY) {
     GTEST_SKIP() << "a file-size limit is set";
@@ -546,7 +546,7 @@ TEST(SafeOutput, EveryAliasOfAFileHasOnePlace) {
   fs::create_directories(t.dir / "sub");
   fs::create_symlink(file, t.dir / "link.exr");
   fs::create_hard_link(file, t.dir / "hard.exr");
-  struct stat st {};
+  struct stat st = {};
   ASSERT_EQ(::stat(file.c_str(), &st), 0);
   const FilePlace expected{static_cast<std::uint64_t>(st.st_dev),
                            static_cast<std::uint64_t>(st.st_ino), ""};

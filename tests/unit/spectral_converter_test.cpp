@@ -254,6 +254,7 @@ TEST(SpectralConverter, BadAlphaIsClampedAndCounted) {
 TEST(SpectralConverter, EveryPixelIsCountedByKind) {
   Kernel k(Mode::emission, false, false, false);
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  // clang-format off
   const std::vector<float> out = k.run({
       0.2f, 0.3f, 0.4f,    // in gamut
       nan, 0.3f, 0.4f,     // invalid
@@ -261,6 +262,7 @@ TEST(SpectralConverter, EveryPixelIsCountedByKind) {
       -1, -1, -1,          // negative luminance
       1.0f, -0.01f, 0.5f,  // a negative component (still a colour)
   });
+  // clang-format on
   const PixelCounts c = k.converter->counts();
   EXPECT_EQ(c.invalid, 1u);
   EXPECT_EQ(c.black, 1u);

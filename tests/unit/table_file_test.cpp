@@ -377,16 +377,12 @@ TEST(TableFile, NamesTooLongForTheHeaderAreRefusedNamingThem) {
   const Opened o(bytes);
   EXPECT_EQ(field(o.h.colorspace, sizeof o.h.colorspace), longest);
   EXPECT_EQ(field(o.h.interop_id, sizeof o.h.interop_id), std::string(31, 'i'));
-  test::expect_error_mentioning(
-      [&] {
-        (void)encode_table_file(m.table, m.sp, {longest + "c", ""});
-      },
-      {"colour space", longest.substr(0, 40), "127 bytes"}, "128-byte colour space");
-  test::expect_error_mentioning(
-      [&] {
-        (void)encode_table_file(m.table, m.sp, {"sRGB", std::string(32, 'i')});
-      },
-      {"interop ID", std::string(20, 'i'), "31 bytes"}, "32-byte interop ID");
+  auto long_name = [&] { (void)encode_table_file(m.table, m.sp, {longest + "c", ""}); };
+  test::expect_error_mentioning(long_name, {"colour space", longest.substr(0, 40), "127 bytes"},
+                                "128-byte colour space");
+  auto long_id = [&] { (void)encode_table_file(m.table, m.sp, {"sRGB", std::string(32, 'i')}); };
+  test::expect_error_mentioning(long_id, {"interop ID", std::string(20, 'i'), "31 bytes"},
+                                "32-byte interop ID");
 }
 
 }  // namespace

@@ -264,7 +264,9 @@ const Validation& results() {
   return v;
 }
 
-const ConfigResult& config(const std::string& name_start, const std::string& space) {
+// Views, not strings: a temporary string argument would make the returned reference (into the
+// results) look dangling to GCC 13+'s -Wdangling-reference.
+const ConfigResult& config(std::string_view name_start, std::string_view space) {
   for (const ConfigResult& c : results().configs)
     if (c.config.name.rfind(name_start, 0) == 0 && c.space == space) return c;
   ADD_FAILURE() << "no configuration " << name_start << " in " << space;

@@ -114,11 +114,8 @@ TEST(Environment, TexelsOfDirections) {
 TEST(Environment, RefusesMapsWithoutLight) {
   test::expect_error_mentioning([] { Environment(4, 2, std::vector<Xyz>(8, Xyz{})); },
                                 {"positive luminance"}, "dark");
-  test::expect_error_mentioning(
-      [] {
-        Environment(4, 2, std::vector<Xyz>(7, Xyz{1, 1, 1}));
-      },
-      {"4 x 2", "7"}, "size");
+  auto seven_texels = [] { Environment(4, 2, std::vector<Xyz>(7, Xyz{1, 1, 1})); };
+  test::expect_error_mentioning(seven_texels, {"4 x 2", "7"}, "size");
 }
 
 }  // namespace

@@ -96,11 +96,8 @@ TEST(Render, HeroWavelengthsConvergeToTheDenseRenderAsOneOverRootSpp) {
 TEST(Render, RefusesBadSampleCounts) {
   const Fixture f;
   const SpectralRender r[] = {{"hero", &f.surface, &f.light, false}};
-  test::expect_error_mentioning(
-      [&] {
-        render(f.scene, f.environment, f.film, r, 4, {4, 4}, 1);
-      },
-      {"increasing"}, "repeated");
+  auto repeated = [&] { render(f.scene, f.environment, f.film, r, 4, {4, 4}, 1); };
+  test::expect_error_mentioning(repeated, {"increasing"}, "repeated");
   test::expect_error_mentioning([&] { render(f.scene, f.environment, f.film, r, 4, {}, 1); },
                                 {"increasing"}, "empty");
   const SpectralRender none[] = {{"none", nullptr, &f.light, false}};

@@ -39,21 +39,12 @@ TEST(SampledSpectra, PiecewiseLinearZeroOutsideScaledPerTexel) {
 }
 
 TEST(SampledSpectra, RefusesInconsistentData) {
-  test::expect_error_mentioning(
-      [] {
-        SampledSpectra(400, 10, 3, {0, 0, 0, 0}, {0});
-      },
-      {"whole spectra"}, "partial");
-  test::expect_error_mentioning(
-      [] {
-        SampledSpectra(400, 10, 2, {0, 0}, {1});
-      },
-      {"texel spectrum 1 of 1"}, "index");
-  test::expect_error_mentioning(
-      [] {
-        SampledSpectra(400, 10, 2, {0, 0}, {0}, {1, 1});
-      },
-      {"2 scales for 1 texels"}, "scales");
+  auto partial = [] { SampledSpectra(400, 10, 3, {0, 0, 0, 0}, {0}); };
+  test::expect_error_mentioning(partial, {"whole spectra"}, "partial");
+  auto bad_index = [] { SampledSpectra(400, 10, 2, {0, 0}, {1}); };
+  test::expect_error_mentioning(bad_index, {"texel spectrum 1 of 1"}, "index");
+  auto extra_scales = [] { SampledSpectra(400, 10, 2, {0, 0}, {0}, {1, 1}); };
+  test::expect_error_mentioning(extra_scales, {"2 scales for 1 texels"}, "scales");
 }
 
 // Writes a 2 x 1 EXR with channels R, T.420,000000nm, T.400,000000nm, T.410,000000nm (not in
