@@ -13,6 +13,12 @@ namespace oiio_compat {
 /// itself at one level whatever is asked (measured with 3.1).
 inline constexpr bool kTiffZipLevels = OIIO_VERSION < OIIO_MAKE_VERSION(3, 0, 0);
 
+/// OIIO 3's HEIF writer keeps uint16 samples (as 10 or 12 bits); OIIO 2.4's makes them uint8.
+inline constexpr bool kHeifHoldsUint16 = OIIO_VERSION >= OIIO_MAKE_VERSION(3, 0, 0);
+
+/// OIIO 3's PNM writer keeps uint16 (16-bit PPM) and float (PFM) samples; OIIO 2.4's only uint8.
+inline constexpr bool kPnmHoldsUint16AndFloat = OIIO_VERSION >= OIIO_MAKE_VERSION(3, 0, 0);
+
 /// OIIO 3 names colour spaces by their interop ID in oiio:ColorSpace ("lin_ap1_scene") and
 /// derives it from a PNG's or TIFF's colour chunks and tags when reading; OIIO 2.x keeps the
 /// name it was given and says "Linear" or "sRGB" otherwise.

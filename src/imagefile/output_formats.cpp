@@ -86,6 +86,7 @@ std::vector<OutputFormat> stated_facts() {
   }
   {
     OutputFormat f{"heif", "HEIF", ".heic", {"uint8"}};
+    if (oiio_compat::kHeifHoldsUint16) f.samples.push_back("uint16");
     f.compressions = {{"heic", 1, 100, false, true}, {"avif", 1, 100, false, true}};
     f.default_compression = "heic:50";  // unasked; "heic" alone is 75
     add(f);
@@ -104,7 +105,14 @@ std::vector<OutputFormat> stated_facts() {
   add(OutputFormat{"sgi", "SGI", ".sgi", {"uint8", "uint16"}, {}, "none"});
   add(OutputFormat{"rla", "RLA", ".rla", {"uint8", "uint16", "float"}, {}, "rle"});
   add(OutputFormat{"fits", "FITS", ".fits", {"uint8", "float"}, {}, "none"});
-  add(OutputFormat{"pnm", "PNM", ".ppm", {"uint8"}, {}, "none"});
+  add(OutputFormat{"pnm",
+                   "PNM",
+                   ".ppm",
+                   oiio_compat::kPnmHoldsUint16AndFloat
+                       ? std::vector<std::string_view>{"uint8", "uint16", "float"}
+                       : std::vector<std::string_view>{"uint8"},
+                   {},
+                   "none"});
   // Written by OIIO, not by spectralize: what they store is not what was asked.
   const auto refuse = [&](std::string_view name, std::string_view label, std::string_view why) {
     OutputFormat f{name, label};

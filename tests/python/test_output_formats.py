@@ -46,6 +46,30 @@ def spectral(tmp_path_factory):
     return path
 
 
+# OpenEXR's compression codes, in the order its file format gives them (ImfCompression.h).
+EXR_CODES = ["none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab",
+             "htj2k256", "htj2k32"]
+
+
+def exr_compression(path):
+    """The compression an OpenEXR's header records, read from its bytes (OpenImageIO 3.1 does
+    not report the HTJ2K ones)."""
+    data = open(path, "rb").read(1 << 16)
+    assert data[:4] == b"\x76\x2f\x31\x01", path
+    at = 8
+    while True:
+        end = data.index(b"\0", at)
+        name = data[at:end]
+        if not name:
+            return None
+        kind_end = data.index(b"\0", end + 1)
+        size = int.from_bytes(data[kind_end + 1:kind_end + 5], "little")
+        value = data[kind_end + 5:kind_end + 5 + size]
+        if name == b"compression":
+            return EXR_CODES[value[0]]
+        at = kind_end + 5 + size
+
+
 def read_spec(path):
     inp = oiio.ImageInput.open(str(path))
     assert inp, oiio.geterror()
@@ -90,8 +114,11 @@ def test_every_compression(sp, spectral, tmp_path, fmt):
         ok, why = attempt(sp, spectral, out, compression=c)
         if ok:
             sizes[c] = os.path.getsize(out)
-            stored = read_spec(out).get_string_attribute("compression")
             # Where the file says its compression (OpenEXR, TIFF), it is the one asked.
+            if fmt == "openexr":
+                stored = exr_compression(out)
+            else:
+                stored = read_spec(out).get_string_attribute("compression")
             if fmt in ("openexr", "tiff"):
                 assert stored == c.split(":")[0], f"{fmt}: asked {c}, stored {stored}"
         else:

@@ -11,6 +11,8 @@
 #include <system_error>
 #include <vector>
 
+#include "imagefile/oiio_compat.h"
+
 namespace spectralize::test {
 
 /// A fresh folder under gtest's temporary directory, named for the test, removed afterwards.
@@ -29,6 +31,12 @@ struct TempDir {
   }
   std::string operator/(const std::string& name) const { return (dir / name).string(); }
 };
+
+/// What oiio:ColorSpace holds for a space of this name and interop ID, as this OIIO expects it:
+/// the name with OIIO 2, the interop ID with OIIO 3 (imagefile/oiio_compat.h).
+inline std::string oiio_colour_space(const std::string& name, const std::string& interop_id) {
+  return oiio_compat::kInteropColourSpaceNames ? interop_id : name;
+}
 
 /// A `width` x `height` spec with these channels and no alpha.
 inline OIIO::ImageSpec spec_of(std::vector<std::string> names,

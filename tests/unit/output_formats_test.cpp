@@ -9,12 +9,14 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "colour/icc_profile.h"
 #include "file_test_support.h"
 #include "imagefile/output_formats.h"
 #include "spectralize/core/error.h"
@@ -108,6 +110,39 @@ TEST(OutputFormats, TheSampleTypesHeldAreTheOnesKept) {
           << f.name << ": asked " << type << ", stored " << (w.ok ? w.spec.format.c_str() : "-");
     }
   }
+}
+
+// The colour slot the table states is where a file keeps the space: an ICC profile read back
+// byte for byte, or OpenEXR's colorInteropID attribute.
+TEST(OutputFormats, TheColourSlotIsWhereTheFileKeepsItsSpace) {
+  TempDir t;
+  const std::array<float, 8> rec709 = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+  const std::vector<unsigned char> icc =
+      icc_profile(rec709, {IccTransfer::srgb, 2.4}, "sRGB - Texture (srgb_rec709_scene)");
+  ASSERT_FALSE(icc.empty());
+  int checked = 0;
+  for (const OutputFormat& f : output_formats()) {
+    if (!f.available || !f.refused.empty() || !cannot_write_here(f).empty()) continue;
+    if (f.colour != ColourSlot::icc_profile && f.colour != ColourSlot::attributes) continue;
+    SCOPED_TRACE(std::string(f.name));
+    const Written w = write_read(
+        path_for(t, f, "tagged"), type_of(f.samples.front()), 3, 64, 48, 0,
+        [&](OIIO::ImageSpec& s) {
+          s.attribute("ICCProfile", OIIO::TypeDesc(OIIO::TypeDesc::UINT8, icc.size()), icc.data());
+          s.attribute("colorInteropID", "srgb_rec709_scene");
+        });
+    ASSERT_TRUE(w.ok);
+    ++checked;
+    if (f.colour == ColourSlot::attributes) {
+      EXPECT_EQ(w.spec.get_string_attribute("colorInteropID"), "srgb_rec709_scene");
+      continue;
+    }
+    const OIIO::ParamValue* kept = w.spec.find_attribute("ICCProfile");
+    ASSERT_TRUE(kept) << "no ICC profile read back";
+    const auto* bytes = static_cast<const unsigned char*>(kept->data());
+    EXPECT_EQ(std::vector<unsigned char>(bytes, bytes + kept->datasize()), icc);
+  }
+  EXPECT_GE(checked, 4);  // OpenEXR, TIFF, PNG, JPEG at least
 }
 
 TEST(OutputFormats, AlphaIsKeptWhereTheTableSaysSo) {
