@@ -6,7 +6,7 @@ CMAKE_FLAGS ?=
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
 .PHONY: all deps configure build test test-long demo bench install format format-check clean test-asan \
-	test-tsan fuzz figures validate docs-figures renders docs-renders
+	test-tsan fuzz figures validate docs-figures renders docs-renders test-platform
 FUZZ_SECONDS ?= 60
 
 all: build
@@ -42,6 +42,15 @@ test-asan: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DSPECTRALIZE_SANITIZE=address,undefined -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E "$(ASAN_SWEEPS)" -LE long
+
+# The whole `make test` on the current VFX stack (Debian sid: OpenImageIO 3.x, OpenColorIO 2.5,
+# OpenEXR 3.4, GCC 16), in a minimal sid root made with debootstrap from the Debian mirror this
+# machine's apt uses and cached in $(PLATFORM_ROOT) (cmake/test-platform.sh; needs root).
+# PLATFORM_TARGETS=demo runs the demo there instead.
+PLATFORM_ROOT ?= $(or $(SPECTRALIZE_PLATFORM_ROOT),/var/cache/spectralize/sid)
+PLATFORM_TARGETS ?= test
+test-platform:
+	@SPECTRALIZE_PLATFORM_ROOT=$(PLATFORM_ROOT) bash cmake/test-platform.sh $(PLATFORM_TARGETS)
 
 # The threaded paths (image job, shared node cache, plugin) under ThreadSanitizer (build-tsan/).
 test-tsan: deps
@@ -109,7 +118,7 @@ bench: deps build
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
 
-SOURCES = $(shell find src tests oiio_plugin python -name '*.cpp' -o -name '*.h' 2>/dev/null) \
+SOURCES = $(shell find src include tests oiio_plugin python -name '*.cpp' -o -name '*.h' -o -name '*.hpp' -o -name '*.c' 2>/dev/null) \
 	$(shell find docs/snippets -name '*.cpp' -o -name '*.c' 2>/dev/null)
 
 format:

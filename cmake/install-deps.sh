@@ -15,25 +15,48 @@ packages=(
   slurmctld slurmd slurm-client munge
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
   python3-matplotlib
+  debootstrap
 )
 
-missing=()
-for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
+# HEIF's encoders: libheif 1.16 and later (Debian 13, sid) ship them as plugins of their own
+# (Debian 12's libheif 1.15 has them built in), which OIIO's HEIF writer needs. Decided by the
+# installed libheif, so that a run with everything present stays quick.
+heif_plugins() {
+  local v
+  v=$(dpkg-query -W -f='${Version}' libheif1 2>/dev/null || true)
+  if [ -n "$v" ] && dpkg --compare-versions "$v" ge 1.16; then
+    echo libheif-plugin-x265 libheif-plugin-aomenc
   fi
-done
+}
 
+missing_of() {
+  local p
+  for p in "$@"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      echo "$p"
+    fi
+  done
+}
+
+# shellcheck disable=SC2207
+missing=($(missing_of "${packages[@]}" $(heif_plugins)))
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi
 
-echo "install-deps: installing ${missing[*]}"
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then
   sudo_cmd=(sudo)
 fi
 export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+install() {
+  echo "install-deps: installing $*"
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
+install "${missing[@]}"
+# libheif arrives with OpenImageIO: its plugins are known only now.
+# shellcheck disable=SC2207
+late=($(missing_of $(heif_plugins)))
+[ ${#late[@]} -eq 0 ] || install "${late[@]}"
 echo "install-deps: done"
