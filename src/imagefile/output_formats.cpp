@@ -145,9 +145,11 @@ std::string probe_write(const std::string& format, const std::string& extension)
   ::close(fd);
   std::string why;
   auto out = OIIO::ImageOutput::create(format);
-  const unsigned char px[2 * 2 * 3] = {};
-  if (!out || !out->open(path, OIIO::ImageSpec(2, 2, 3, OIIO::TypeUInt8)) ||
-      !out->write_image(OIIO::TypeUInt8, px) || !out->close()) {
+  // Room for four channels a row beyond the image: OIIO 2.4's HEIF writer copies each 3-channel
+  // row as if it had four (AddressSanitizer saw it read past a tight buffer).
+  const std::vector<unsigned char> px(8 * 8 * 4 + 8 * 4, 0);
+  if (!out || !out->open(path, OIIO::ImageSpec(8, 8, 3, OIIO::TypeUInt8)) ||
+      !out->write_image(OIIO::TypeUInt8, px.data()) || !out->close()) {
     why = out ? out->geterror() : OIIO::geterror();
     if (why.empty()) why = "the writer fails without a reason";
   }
