@@ -37,7 +37,7 @@ test-long: deps build
 # random colours, the wide-gamut tables' whole volume), and the end-to-end suites of good inputs
 # on the ordinary paths (tests/CMakeLists.txt): each path is run under the sanitizers by the
 # suites of bad, broken and unusual inputs, and the release build runs everything.
-ASAN_SWEEPS = Spectralizer.TenThousandRandomColoursPerSpaceAndModeAt10nm|Guarantees.UpToDateMeansTheSameFileWouldBeWritten|CliImage.EveryCompressionWritesTheSameSamples|SettingsSchema.EverySettingThatShapesSpectraIsInTheCacheKeyReportAndAttributes|RtTable.EveryFeasibleColourIsExactAndBounded/(rec2020|acescg)_|clang_format
+ASAN_SWEEPS = Spectralizer.TenThousandRandomColoursPerSpaceAndModeAt10nm|Guarantees.UpToDateMeansTheSameFileWouldBeWritten|CliImage.EveryCompressionWritesTheSameSamples|SettingsSchema.EverySettingThatShapesSpectraIsInTheCacheKeyReportAndAttributes|RtTable.EveryFeasibleColourIsExactAndBounded/(rec2020|acescg)_|RtHostile.EveryEightBitColourHasBoundedWeightsAndSamplesOnEveryModel|clang_format
 test-asan: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DSPECTRALIZE_SANITIZE=address,undefined -DSPECTRALIZE_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-asan -j $(JOBS)

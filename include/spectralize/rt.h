@@ -8,9 +8,19 @@
  * their range). No allocation, no exceptions, no virtual calls in fetch and eval; a loaded table
  * is read-only and may be shared by any number of threads.
  *
+ * For any file and any colour: loading costs O(file size) and checks the table's structure and
+ * meaning (every stored spectrum reproduces the colour of its position; bounds; matrices
+ * inverse to each other; the gamut holding the table's own colours); a fetch costs O(1) inside
+ * the grid's cells, at most O(max_cell_simplices) (a header field, <= SPZ_MAX_CELL_SIMPLICES)
+ * on the gamut's boundary and O(planes) (<= SPZ_MAX_GAMUT_PLANES) to map a colour in; no input
+ * is undefined behaviour; a spectrum said SPZ_EXACT or SPZ_MAPPED is finite, >= 0, and <= 1 for
+ * a reflectance (bit for bit), and SPZ_EXACT only when it reproduces the colour to
+ * SPZ_EXACT_TOLERANCE relative, at any magnitude.
+ *
  * Header-only. C++ code can use <spectralize/rt.hpp> directly. For these C functions, define
- * SPECTRALIZE_RT_IMPLEMENTATION in exactly one C++ translation unit before including this
- * header: it then defines them (over rt.hpp); every other C or C++ unit just includes it.
+ * SPECTRALIZE_RT_IMPLEMENTATION in exactly one C++ translation unit and include this header
+ * there (after any earlier inclusion too): it then defines them (over rt.hpp); every other C or
+ * C++ unit just includes it.
  *
  *   spz_table *t = spz_table_load("srgb.spztab", err, sizeof err);   (NULL + message)
  *   spz_spectrum s;
@@ -32,7 +42,8 @@ extern "C" {
 typedef struct spz_table spz_table;
 
 /* A colour's spectrum: the blend of up to four of the table's spectra. A small value; valid
- * while its table is loaded. */
+ * while its table is loaded. A zero-initialised one ({0}) is the zero spectrum of no table:
+ * it evaluates to 0 everywhere. */
 typedef struct spz_spectrum {
   const void* table;  /* the table's data (internal) */
   uint32_t vertex[4]; /* spectrum slots, or (high bit) boundary spectra of the table */
@@ -46,21 +57,25 @@ typedef struct spz_spectrum {
 enum {
   SPZ_EXACT = 0,    /* the colour's own exact spectrum */
   SPZ_MAPPED = 1,   /* outside the gamut: mapped in as the spectralize CLI does, then exact */
-  SPZ_INVALID = -1, /* NaN or infinite: the zero spectrum */
+  SPZ_INVALID = -1, /* NaN, infinite, a light too bright for a finite float spectrum, or no
+                       table: the zero spectrum */
   SPZ_NEGATIVE = -2 /* negative luminance (no light or surface has it): the zero spectrum */
 };
 
-/* Loads and validates a table file (every size, offset, index, value and the checksum).
- * Returns NULL and a message naming the file and the reason in `error` (if not NULL) for
- * anything unusable. Cost: reading the file, O(file size). */
+/* Loads and validates a table file: its 1024-byte header first (signature, version, size),
+ * then every size, offset, index and value, the checksum, and the table's meaning (above).
+ * Returns NULL and a message naming the file, the field and the reason in `error` (if not
+ * NULL) for anything unusable; a table of an older format version is to be made again with
+ * `spectralize table`. Cost: reading the file, O(file size). */
 spz_table* spz_table_load(const char* path, char* error, size_t error_size);
 
 /* Frees a table (NULL is allowed). */
 void spz_table_free(spz_table* table);
 
-/* The spectrum of a linear RGB colour of the table's colour space. Cost: O(1): a cell lookup and
- * four weights; cells on the gamut's boundary test a few simplices; a colour outside the gamut
- * is mapped first (O(facets), a few thousand planes). */
+/* The spectrum of a linear RGB colour of the table's colour space (a NULL table gives the zero
+ * spectrum and SPZ_INVALID). Cost: O(1): a cell lookup and four weights; cells on the gamut's
+ * boundary test their simplices (at most max_cell_simplices); a colour outside the gamut is
+ * mapped first (O(planes), a few thousand). */
 int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out);
 
 /* The spectrum's value at lambda_nm (0 outside the table's wavelengths). Cost: O(1). */
@@ -71,6 +86,15 @@ void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]);
 
 /* All samples of the spectrum, spz_table_bands() floats into out. Cost: O(bands). */
 void spz_samples(const spz_spectrum* s, float* out);
+
+/* The samples of the spectrum into out, which holds `capacity` floats: returns the spectrum's
+ * band count, and writes its samples only when that is <= capacity (a consumer sized for 81
+ * bands is not overrun by a 1 nm table). The zero spectrum of no table writes `capacity` zeros
+ * and returns 0. Cost: O(bands). */
+size_t spz_samples_n(const spz_spectrum* s, float* out, size_t capacity);
+
+/* The spectrum's band count (0 for the zero spectrum of no table). Cost: O(1). */
+size_t spz_spectrum_bands(const spz_spectrum* s);
 
 /* Samples per spectrum, and their wavelengths: start + i * step nm. Cost: O(1). */
 size_t spz_table_bands(const spz_table* table);
@@ -88,10 +112,12 @@ void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]);
 } /* extern "C" */
 #endif
 
-/* rt.hpp defines the C functions at its end when SPECTRALIZE_RT_IMPLEMENTATION is set (also
- * when it is the header being read, which includes this one first). */
-#if defined(__cplusplus) && defined(SPECTRALIZE_RT_IMPLEMENTATION) && !defined(SPECTRALIZE_RT_HPP)
+#endif /* SPECTRALIZE_RT_H */
+
+/* rt.hpp defines the C functions at its end when SPECTRALIZE_RT_IMPLEMENTATION is set: outside
+ * the include guard, so that the define works in a unit that included this header before. */
+#if defined(__cplusplus) && defined(SPECTRALIZE_RT_IMPLEMENTATION) && \
+    !defined(SPECTRALIZE_RT_C_DEFINED) &&                             \
+    (!defined(SPECTRALIZE_RT_HPP) || defined(SPECTRALIZE_RT_HPP_DONE))
 #include <spectralize/rt.hpp>
 #endif
-
-#endif /* SPECTRALIZE_RT_H */

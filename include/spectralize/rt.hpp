@@ -4,7 +4,7 @@
 //
 //   spz::Table table;
 //   std::string error;
-//   if (!table.load("srgb.spztab", &error)) ...;        // never throws, validates everything
+//   if (!table.load("srgb.spztab", &error)) ...;        // never throws; checks what it means
 //   spz::Spectrum s;
 //   const int status = table.view().fetch(rgb, s);       // SPZ_EXACT, SPZ_MAPPED, < 0 invalid
 //   float v[4];
@@ -13,7 +13,11 @@
 // A TableView is a validated view of a table's bytes (owned by a Table, or any memory the
 // caller keeps alive: a file mapped into memory, aligned to 8 bytes). Lookups read only and
 // are thread-safe. fetch() and the eval functions allocate nothing, throw nothing and make no
-// virtual calls; their data are plain arrays.
+// virtual calls; their data are plain arrays. Whatever the bytes and the colour: loading costs
+// O(file size); a fetch at most O(the header's max_cell_simplices) inside the gamut and O(its
+// planes) to map a colour in; no input is undefined behaviour; a fetch that says SPZ_EXACT or
+// SPZ_MAPPED gives a finite spectrum >= 0 (<= 1 for reflectances), SPZ_EXACT only when it
+// reproduces the colour to SPZ_EXACT_TOLERANCE at any magnitude.
 #ifndef SPECTRALIZE_RT_HPP
 #define SPECTRALIZE_RT_HPP
 
@@ -193,16 +197,24 @@ class TableView {
   /// `error`, for anything unusable; never reads outside [data, data + size). Cost: O(size).
   bool open(const void* data, std::size_t size, char* error, std::size_t error_size) noexcept;
 
-  /// The spectrum of a linear RGB colour of the table's colour space: SPZ_EXACT, SPZ_MAPPED
-  /// (outside the gamut: mapped in first, as the CLI does), SPZ_INVALID or SPZ_NEGATIVE (the
-  /// zero spectrum). Cost: O(1) inside the gamut; O(facets) for a mapped colour.
+  /// The spectrum of a linear RGB colour of the table's colour space: SPZ_EXACT (it reproduces
+  /// the colour to SPZ_EXACT_TOLERANCE), SPZ_MAPPED (outside the gamut, or within rounding of
+  /// its boundary: the spectrum of the colour mapped in, as the CLI maps it), SPZ_INVALID (NaN,
+  /// infinite, a light too bright for its spectrum to be finite in float, or a view without a
+  /// table) or SPZ_NEGATIVE (the zero spectrum). Cost: O(1) inside cells; O(max_cell_simplices)
+  /// in a boundary cell; O(planes) for a mapped colour.
   int fetch(const float rgb[3], Spectrum& out) const noexcept;
 
   /// The gamut mapping alone (docs/DESIGN.md §5) of an RGB colour: the RGB the spectrum of
   /// `rgb` reproduces. Returns the fetch status of the colour. Cost: O(facets).
   int map_into_gamut(const double rgb[3], double mapped[3]) const noexcept;
 
+  /// True for a view of a validated table (false: empty, moved from, or a failed open).
+  bool loaded() const noexcept { return h_ != nullptr; }
   std::size_t bands() const noexcept { return bands_; }
+  /// Colours whose target X, Y, Z are all below this (table units: a reflectance's white has
+  /// Y = 1) are black, SPZ_MAPPED: their float spectra would be denormal, not exact.
+  static constexpr double kDarkest = 1e-30;
   float lambda_start() const noexcept { return start_; }
   float lambda_step() const noexcept { return step_; }
   bool reflectance() const noexcept { return reflectance_; }
@@ -219,8 +231,9 @@ class TableView {
   const float* bvalue_ = nullptr;
 
  private:
-  bool locate(const double u[3], int cell_index[3], double f[3], bool clamp) const noexcept;
-  bool blend(const double u[3], Spectrum& s, bool nearest) const noexcept;
+  bool locate(const double u[3], int cell_index[3], double f[3], bool clamp,
+              bool* moved = nullptr) const noexcept;
+  bool blend(const double u[3], Spectrum& s, bool nearest, bool* reproduced) const noexcept;
   template <int dims>
   bool fast_blend(const float u[3], Spectrum& s) const noexcept;
   struct AxisFast {  // one axis' lookup, hot in fetch()
@@ -231,10 +244,11 @@ class TableView {
     std::uint32_t n;
   };
   AxisFast fast_[3] = {};
-  bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
-                  bool nearest) const noexcept;
-  bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s,
-                      bool nearest) const noexcept;
+  bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s, bool nearest,
+                  bool* reproduced) const noexcept;
+  bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s, bool nearest,
+                      bool* reproduced) const noexcept;
+  bool close_to(const double u[3], const double v[3]) const noexcept;
   std::uint32_t slot_of_corner(const int i[3], std::uint32_t corner) const noexcept {
     const std::uint32_t x = static_cast<std::uint32_t>(i[0]) + (corner & 1u);
     const std::uint32_t y = static_cast<std::uint32_t>(i[1]) + ((corner >> 1) & 1u);
@@ -248,6 +262,7 @@ class TableView {
   }
   int slow_fetch(const float rgb[3], Spectrum& s) const noexcept;
   int map_target(detail::Vec3& t) const noexcept;
+  bool check_meaning(char* error, std::size_t error_size) const noexcept;
 
   std::uint32_t n_[3] = {0, 0, 0}, lut_size_[3] = {0, 0, 0}, dims_ = 3;
   float lut_origin_[3] = {0, 0, 0}, lut_inv_[3] = {0, 0, 0};
@@ -260,10 +275,15 @@ class TableView {
   const std::uint32_t* simplices_ = nullptr;
   const double* bpos_ = nullptr;
   float to_target_f_[9] = {};
+  float max_scale_ = 0;  // emission: the largest X+Y+Z whose spectrum stays finite in float
+  const double* band_weights_ = nullptr;
   detail::Gamut locus_, solid_;
 };
 
-/// A table read from a file (owns its bytes). Movable, not copyable.
+/// A table read from a file (owns its bytes). Movable, not copyable. Its view lives beside the
+/// bytes on the heap, so spectra fetched from it stay valid when the Table object moves; a
+/// Table never loaded, moved from, or whose last load failed has an empty view, whose fetches
+/// give SPZ_INVALID and the zero spectrum.
 class Table {
  public:
   Table() = default;
@@ -271,8 +291,8 @@ class Table {
   Table& operator=(Table&& o) noexcept {
     if (this != &o) {
       release();
-      data_ = o.data_, size_ = o.size_, view_ = o.view_;
-      o.data_ = nullptr, o.size_ = 0;
+      block_ = o.block_, view_ = o.view_;
+      o.block_ = nullptr, o.view_ = nullptr;
     }
     return *this;
   }
@@ -280,8 +300,9 @@ class Table {
   Table& operator=(const Table&) = delete;
   ~Table() { release(); }
 
-  /// Reads and validates a table file. False with "PATH: reason" in error (when not null).
-  /// Never throws. Cost: O(file size).
+  /// Reads and validates a table file: its 1024-byte header first (signature, version, size),
+  /// then the rest. False with "PATH: reason" in error (when not null), and an empty view (the
+  /// table held before is released either way). Never throws. Cost: O(file size).
   bool load(const char* path, char* error, std::size_t error_size) noexcept;
   bool load(const char* path, std::string* error = nullptr) {
     char buf[512];
@@ -289,17 +310,22 @@ class Table {
     if (!ok && error) *error = buf;
     return ok;
   }
-  /// The validated view (valid after a successful load). Cost: O(1).
-  const TableView& view() const noexcept { return view_; }
+  /// The validated view, or an empty one. Cost: O(1).
+  const TableView& view() const noexcept { return view_ ? *view_ : empty(); }
 
  private:
-  void release() noexcept {
-    if (data_) ::operator delete(data_, std::align_val_t(64));
-    data_ = nullptr;
+  static const TableView& empty() noexcept {
+    static const TableView none;
+    return none;
   }
-  unsigned char* data_ = nullptr;
-  std::size_t size_ = 0;
-  TableView view_;
+  void release() noexcept {
+    if (view_) view_->~TableView();
+    if (block_) ::operator delete(block_, std::align_val_t(64));
+    block_ = nullptr, view_ = nullptr;
+  }
+  unsigned char* block_ = nullptr;  // the view, then the file's bytes at kBytesAt
+  TableView* view_ = nullptr;
+  static constexpr std::size_t kBytesAt = (sizeof(TableView) + 63) / 64 * 64;
 };
 
 namespace detail {
@@ -334,6 +360,7 @@ inline void interval_of(const TableView& t, float lambda_nm, std::uint32_t& k, f
 }  // namespace detail
 
 inline float eval(const Spectrum& s, float lambda_nm) noexcept {
+  if (!s.table) return 0.0f;  // the zero spectrum (e.g. zero-initialised)
   const TableView& t = *static_cast<const TableView*>(s.table);
   const float x = (lambda_nm - t.start_) * t.inv_step_;
   if (!(x >= 0.0f && x <= t.last_)) return 0.0f;
@@ -360,6 +387,10 @@ inline float eval(const Spectrum& s, float lambda_nm) noexcept {
 /// The values at four wavelengths. Cost: O(1), 32 loads; the arithmetic in SSE lanes where
 /// the compiler targets SSE2 (every x86-64), else the same in plain C++.
 inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noexcept {
+  if (!s.table) {  // the zero spectrum (e.g. zero-initialised)
+    out[0] = out[1] = out[2] = out[3] = 0.0f;
+    return;
+  }
   const TableView& t = *static_cast<const TableView*>(s.table);
 #if defined(__SSE2__)
   if (!(s.flags & 1u)) {
@@ -427,6 +458,7 @@ inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noe
 
 /// Every sample of the spectrum (bands() floats). Cost: O(bands).
 inline void samples(const Spectrum& s, float* out) noexcept {
+  if (!s.table) return;  // the zero spectrum has no bands: see samples(s, out, capacity)
   const TableView& t = *static_cast<const TableView*>(s.table);
   const std::uint32_t n = t.bands_;
   const bool clamp = (s.flags & 2u) != 0;
@@ -453,7 +485,106 @@ inline void samples(const Spectrum& s, float* out) noexcept {
   }
 }
 
+/// The samples of the spectrum into `out`, at most `capacity` of them: returns its band count
+/// (its samples are written when it is <= capacity; else nothing is). The zero spectrum of no
+/// table writes `capacity` zeros and returns 0. Cost: O(bands).
+inline std::size_t samples(const Spectrum& s, float* out, std::size_t capacity) noexcept {
+  if (!s.table) {
+    for (std::size_t k = 0; k < capacity; ++k) out[k] = 0.0f;
+    return 0;
+  }
+  const std::size_t n = static_cast<const TableView*>(s.table)->bands();
+  if (n <= capacity) samples(s, out);
+  return n;
+}
+
+/// The number of samples of the spectrum (0 for the zero spectrum of no table). Cost: O(1).
+inline std::size_t bands(const Spectrum& s) noexcept {
+  return s.table ? static_cast<const TableView*>(s.table)->bands() : 0;
+}
+
 // --- TableView ---
+
+namespace detail {
+
+// The names of the sections, for messages.
+inline const char* section_name(int s) noexcept {
+  static const char* const names[SPZ_SECTION_COUNT] = {"axis x",
+                                                       "axis y",
+                                                       "axis z",
+                                                       "axis inverse",
+                                                       "axis lookup",
+                                                       "cells",
+                                                       "node slots",
+                                                       "spectra",
+                                                       "boundary cells",
+                                                       "simplices",
+                                                       "boundary positions",
+                                                       "boundary masks",
+                                                       "boundary picks",
+                                                       "boundary values",
+                                                       "locus planes",
+                                                       "solid planes",
+                                                       "band weights"};
+  return s >= 0 && s < static_cast<int>(SPZ_SECTION_COUNT) ? names[s] : "?";
+}
+
+// The header of a table: its signature, byte order, version and size against `size` bytes of
+// file (all a reader checks before reading the rest).
+inline bool check_header_start(const spz_file_header* h, std::size_t size, char* error,
+                               std::size_t error_size) noexcept {
+  if (std::memcmp(h->magic, "SPZTABLE", 8) != 0)
+    return say(error, error_size, "not a spectralize table (no SPZTABLE signature)"), false;
+  const std::uint32_t probe = 1;
+  unsigned char first;
+  std::memcpy(&first, &probe, 1);
+  if (first != 1)
+    return say(error, error_size, "this evaluator runs on little-endian machines only"), false;
+  if (h->byte_order != SPZ_BYTE_ORDER_MARK) {
+    say(error, error_size,
+        h->byte_order == 0x04030201u ? "written with the wrong byte order (big-endian)"
+                                     : "bad byte_order mark 0x%08x",
+        static_cast<unsigned>(h->byte_order));
+    return false;
+  }
+  if (h->version != SPZ_FORMAT_VERSION) {
+    say(error, error_size,
+        h->version < SPZ_FORMAT_VERSION
+            ? "format version %u: this evaluator reads version %u; make the table again with "
+              "`spectralize table`"
+            : "format version %u: this evaluator reads version %u; use a newer evaluator",
+        static_cast<unsigned>(h->version), SPZ_FORMAT_VERSION);
+    return false;
+  }
+  if (h->header_size != SPZ_HEADER_SIZE)
+    return say(error, error_size, "bad header_size %u (not %u)", h->header_size, SPZ_HEADER_SIZE),
+           false;
+  if (h->file_size != size) {
+    say(error, error_size, "%s: file_size says %llu bytes, there are %zu",
+        h->file_size > size ? "truncated" : "extra bytes",
+        static_cast<unsigned long long>(h->file_size), size);
+    return false;
+  }
+  return true;
+}
+
+// The largest difference between the product of two 3 x 3 row-major matrices and the identity.
+inline double inverse_error(const double* a, const double* b) noexcept {
+  double worst = 0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const double v = a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
+      worst = std::max(worst, std::abs(v - (r == c ? 1.0 : 0.0)));
+    }
+  return worst;
+}
+
+inline double det3(const double* m) noexcept {
+  return m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
+         m[2] * (m[3] * m[7] - m[4] * m[6]);
+}
+
+}  // namespace detail
 
 inline bool TableView::open(const void* data, std::size_t size, char* error,
                             std::size_t error_size) noexcept {
@@ -470,39 +601,11 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     return false;
   }
   const auto* h = static_cast<const spz_file_header*>(data);
-  if (std::memcmp(h->magic, "SPZTABLE", 8) != 0) {
-    say(error, error_size, "not a spectralize table (no SPZTABLE signature)");
-    return false;
-  }
-  const std::uint32_t probe = 1;
-  unsigned char first;
-  std::memcpy(&first, &probe, 1);
-  if (first != 1) {
-    say(error, error_size, "this evaluator runs on little-endian machines only");
-    return false;
-  }
-  if (h->byte_order != SPZ_BYTE_ORDER_MARK) {
-    say(error, error_size,
-        h->byte_order == 0x04030201u ? "written with the wrong byte order (big-endian)"
-                                     : "bad byte-order mark 0x%08x",
-        static_cast<unsigned>(h->byte_order));
-    return false;
-  }
-  if (h->version != SPZ_FORMAT_VERSION) {
-    say(error, error_size, "format version %u (this evaluator reads version %u)",
-        static_cast<unsigned>(h->version), SPZ_FORMAT_VERSION);
-    return false;
-  }
-  if (h->header_size != SPZ_HEADER_SIZE || h->section_count != SPZ_SECTION_COUNT) {
-    say(error, error_size, "bad header size or section count");
-    return false;
-  }
-  if (h->file_size != size) {
-    say(error, error_size, "%s: the header says %llu bytes, there are %zu",
-        h->file_size > size ? "truncated" : "extra bytes",
-        static_cast<unsigned long long>(h->file_size), size);
-    return false;
-  }
+  if (!detail::check_header_start(h, size, error, error_size)) return false;
+  if (h->section_count != SPZ_SECTION_COUNT)
+    return say(error, error_size, "bad section_count %u (not %u)", h->section_count,
+               SPZ_SECTION_COUNT),
+           false;
   if (detail::table_checksum(bytes, size) != h->checksum) {
     say(error, error_size, "checksum mismatch (the file is corrupt)");
     return false;
@@ -511,47 +614,79 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   const bool reflectance = h->mode == SPZ_MODE_REFLECTANCE;
   if (h->mode != SPZ_MODE_EMISSION && !reflectance)
     return say(error, error_size, "bad mode %u", h->mode), false;
-  if (h->bands < 2 || h->bands > 65535 || h->mask_words != (h->bands + 31) / 32)
-    return say(error, error_size, "bad band count %u", h->bands), false;
-  if (!(h->lambda_step > 0) || !(h->lambda_start >= 0) ||
+  if (h->bands < 2 || h->bands > SPZ_MAX_BANDS || h->mask_words != (h->bands + 31) / 32)
+    return say(error, error_size, "bad bands %u or mask_words %u", h->bands, h->mask_words), false;
+  // Wavelengths a float can step through (eval divides by the step in float).
+  if (!(h->lambda_start >= 0 && h->lambda_start < 1e5))
+    return say(error, error_size, "bad lambda_start %g nm", h->lambda_start), false;
+  if (!(h->lambda_step >= 1e-3 && h->lambda_step <= 1e4) ||
       !(h->lambda_start + h->lambda_step * (h->bands - 1) < 1e5))
-    return say(error, error_size, "bad wavelengths"), false;
-  const double* doubles[] = {h->rgb_to_xyz, h->rgb_to_target, h->target_to_rgb};
-  for (const double* m : doubles)
+    return say(error, error_size, "bad lambda_step %g nm (1e-3 to 1e4, the last band below 1e5 nm)",
+               h->lambda_step),
+           false;
+  const double* matrices[] = {h->rgb_to_xyz, h->rgb_to_target, h->target_to_rgb};
+  const char* matrix_names[] = {"rgb_to_xyz", "rgb_to_target", "target_to_rgb"};
+  for (int m = 0; m < 3; ++m) {
     for (int k = 0; k < 9; ++k)
-      if (!detail::finite(m[k])) return say(error, error_size, "a matrix is not finite"), false;
+      if (!detail::finite(matrices[m][k]))
+        return say(error, error_size, "%s is not finite", matrix_names[m]), false;
+    if (!(std::abs(detail::det3(matrices[m])) > 1e-9))
+      return say(error, error_size, "%s is singular", matrix_names[m]), false;
+  }
+  if (!(detail::inverse_error(h->rgb_to_target, h->target_to_rgb) <= 1e-6))
+    return say(error, error_size, "target_to_rgb is not the inverse of rgb_to_target"), false;
   for (int k = 0; k < 3; ++k)
     if (!detail::finite(h->locus_white[k]) || !detail::finite(h->solid_white[k]))
-      return say(error, error_size, "a white is not finite"), false;
-  const double params[] = {h->locus_margin, h->solid_margin, h->snap_tolerance, h->locus_scale,
-                           h->solid_scale};
-  for (double p : params)
-    if (!(p >= 0 && p < 1e30)) return say(error, error_size, "bad mapping parameters"), false;
-  if (!(h->locus_white[1] > 0)) return say(error, error_size, "bad locus white"), false;
+      return say(error, error_size, "locus_white or solid_white is not finite"), false;
+  if (!(h->locus_white[1] > 0)) return say(error, error_size, "bad locus_white"), false;
+  if (reflectance && !(std::abs(h->solid_white[1] - 1) <= 1e-6))
+    return say(error, error_size, "bad solid_white (its Y is not 1)"), false;
+  // The mapping's parameters, within what the writer uses (a snap tolerance of 0.5 would call
+  // any colour exact).
+  if (!(h->locus_margin >= 0 && h->locus_margin <= 0.01) ||
+      !(h->solid_margin >= 0 && h->solid_margin <= 0.01))
+    return say(error, error_size, "bad locus_margin or solid_margin (0 to 0.01)"), false;
+  if (!(h->snap_tolerance >= 0 && h->snap_tolerance <= 1e-5))
+    return say(error, error_size, "bad snap_tolerance %g (0 to 1e-5)", h->snap_tolerance), false;
+  if (!(h->locus_scale >= 0 && h->locus_scale < 1e30) ||
+      !(h->solid_scale >= 0 && h->solid_scale < 1e30))
+    return say(error, error_size, "bad locus_scale or solid_scale"), false;
+  if (!(h->sample_bound > 0 && h->sample_bound < 1e30) || (reflectance && h->sample_bound > 1))
+    return say(error, error_size, "bad sample_bound %g", h->sample_bound), false;
+  if (h->max_cell_simplices > SPZ_MAX_CELL_SIMPLICES || h->reserved != 0)
+    return say(error, error_size, "bad max_cell_simplices %u (at most %u) or reserved",
+               h->max_cell_simplices, SPZ_MAX_CELL_SIMPLICES),
+           false;
   const char* strings[] = {h->colorspace, h->interop_id,     h->model,    h->observer,
                            h->illuminant, h->emission_basis, h->generator};
+  const char* string_names[] = {"colorspace", "interop_id",     "model",    "observer",
+                                "illuminant", "emission_basis", "generator"};
   const std::size_t lengths[] = {
       sizeof h->colorspace, sizeof h->interop_id,     sizeof h->model,    sizeof h->observer,
       sizeof h->illuminant, sizeof h->emission_basis, sizeof h->generator};
   for (int k = 0; k < 7; ++k)
     if (!std::memchr(strings[k], 0, lengths[k]))
-      return say(error, error_size, "a name in the header is not terminated"), false;
+      return say(error, error_size, "%s is not terminated", string_names[k]), false;
   dims_ = reflectance ? 3 : 2;
   std::uint64_t nodes = 1, cells = 1;
   for (int a = 0; a < 3; ++a) {
     const std::uint32_t n = h->nodes[a];
     if (a < static_cast<int>(dims_) ? (n < 2 || n > 65536) : n != 1)
-      return say(error, error_size, "bad node count %u on axis %d", n, a), false;
+      return say(error, error_size, "bad nodes[%d] %u", a, n), false;
     nodes *= n;
     cells *= a < static_cast<int>(dims_) ? n - 1 : 1;
     if (!(h->lut_size[a] >= 1 && h->lut_size[a] <= (1u << 20)) ||
         !std::isfinite(h->lut_origin[a]) || !(h->lut_inverse_bin[a] > 0) ||
         !std::isfinite(h->lut_inverse_bin[a]))
-      return say(error, error_size, "bad lookup of axis %d", a), false;
+      return say(error, error_size, "bad lut_size, lut_origin or lut_inverse_bin of axis %d", a),
+             false;
   }
-  if (nodes > (1u << 28)) return say(error, error_size, "too many nodes"), false;
+  if (nodes > (1u << 28))
+    return say(error, error_size, "too many nodes (%llu)", static_cast<unsigned long long>(nodes)),
+           false;
   // Sections: aligned, inside the file, counts consistent with the header.
-  const std::size_t element[SPZ_SECTION_COUNT] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 8, 4, 4, 4, 8, 8};
+  const std::size_t element[SPZ_SECTION_COUNT] = {4, 4, 4, 4, 4, 4, 4, 4, 4,
+                                                  4, 8, 4, 4, 4, 8, 8, 8};
   const void* at[SPZ_SECTION_COUNT];
   std::uint64_t count[SPZ_SECTION_COUNT];
   for (int s = 0; s < static_cast<int>(SPZ_SECTION_COUNT); ++s) {
@@ -563,7 +698,9 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     }
     if (e.offset % SPZ_SECTION_ALIGNMENT != 0 || e.offset < SPZ_HEADER_SIZE || e.offset > size ||
         e.count > (size - e.offset) / element[s])
-      return say(error, error_size, "section %d lies outside the file or is misaligned", s), false;
+      return say(error, error_size, "section '%s' lies outside the file or is misaligned",
+                 detail::section_name(s)),
+             false;
     at[s] = bytes + e.offset;
   }
   const std::uint32_t bands = h->bands;
@@ -576,19 +713,51 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   const std::uint64_t nbv = count[SPZ_SECTION_BOUNDARY_PICKS];
   const std::uint64_t nbc = count[SPZ_SECTION_BOUNDARY_CELLS] / 2;
   const std::uint64_t nsimplex = count[SPZ_SECTION_SIMPLICES] / 4;
-  const bool consistent =
-      count[SPZ_SECTION_AXIS_X] == h->nodes[0] && count[SPZ_SECTION_AXIS_Y] == h->nodes[1] &&
-      count[SPZ_SECTION_AXIS_Z] == h->nodes[2] && count[SPZ_SECTION_AXIS_INVERSE] == intervals &&
-      count[SPZ_SECTION_AXIS_LUT] == lut_total && count[SPZ_SECTION_CELLS] == cells &&
-      count[SPZ_SECTION_NODE_SLOTS] == nodes && count[SPZ_SECTION_SPECTRA] % bands == 0 &&
-      slots >= 1 && slots < SPZ_BOUNDARY_BIT && count[SPZ_SECTION_BOUNDARY_CELLS] % 2 == 0 &&
-      nbc < SPZ_BOUNDARY_BIT && count[SPZ_SECTION_SIMPLICES] % 4 == 0 && nbv < SPZ_BOUNDARY_BIT &&
-      count[SPZ_SECTION_BOUNDARY_POSITIONS] == 3 * nbv &&
-      count[SPZ_SECTION_BOUNDARY_MASKS] == nbv * h->mask_words &&
-      count[SPZ_SECTION_BOUNDARY_VALUES] == 2 * nbv && count[SPZ_SECTION_LOCUS_PLANES] % 4 == 0 &&
-      count[SPZ_SECTION_LOCUS_PLANES] > 0 && count[SPZ_SECTION_SOLID_PLANES] % 4 == 0 &&
-      (!reflectance || count[SPZ_SECTION_SOLID_PLANES] > 0);
-  if (!consistent) return say(error, error_size, "section sizes disagree with the header"), false;
+  // Each count the header implies, by section: the first that disagrees is named.
+  struct Expect {
+    int section;
+    bool ok;
+    const char* what;
+  };
+  const std::uint64_t locus_planes = count[SPZ_SECTION_LOCUS_PLANES] / 4;
+  const std::uint64_t solid_planes = count[SPZ_SECTION_SOLID_PLANES] / 4;
+  const Expect expects[] = {
+      {SPZ_SECTION_AXIS_X, count[SPZ_SECTION_AXIS_X] == h->nodes[0], "nodes[0] positions"},
+      {SPZ_SECTION_AXIS_Y, count[SPZ_SECTION_AXIS_Y] == h->nodes[1], "nodes[1] positions"},
+      {SPZ_SECTION_AXIS_Z, count[SPZ_SECTION_AXIS_Z] == h->nodes[2], "nodes[2] positions"},
+      {SPZ_SECTION_AXIS_INVERSE, count[SPZ_SECTION_AXIS_INVERSE] == intervals, "one per interval"},
+      {SPZ_SECTION_AXIS_LUT, count[SPZ_SECTION_AXIS_LUT] == lut_total, "the lut_sizes' sum"},
+      {SPZ_SECTION_CELLS, count[SPZ_SECTION_CELLS] == cells, "one per cell"},
+      {SPZ_SECTION_NODE_SLOTS, count[SPZ_SECTION_NODE_SLOTS] == nodes, "one per node"},
+      {SPZ_SECTION_SPECTRA,
+       count[SPZ_SECTION_SPECTRA] % bands == 0 && slots >= 1 && slots < SPZ_BOUNDARY_BIT,
+       "whole spectra of `bands` samples, at least one"},
+      {SPZ_SECTION_BOUNDARY_CELLS,
+       count[SPZ_SECTION_BOUNDARY_CELLS] % 2 == 0 && nbc < SPZ_BOUNDARY_BIT, "pairs"},
+      {SPZ_SECTION_SIMPLICES, count[SPZ_SECTION_SIMPLICES] % 4 == 0, "four references each"},
+      {SPZ_SECTION_BOUNDARY_PICKS, nbv < SPZ_BOUNDARY_BIT, "fewer than 2^31"},
+      {SPZ_SECTION_BOUNDARY_POSITIONS, count[SPZ_SECTION_BOUNDARY_POSITIONS] == 3 * nbv,
+       "three per boundary vertex"},
+      {SPZ_SECTION_BOUNDARY_MASKS, count[SPZ_SECTION_BOUNDARY_MASKS] == nbv * h->mask_words,
+       "mask_words per boundary vertex"},
+      {SPZ_SECTION_BOUNDARY_VALUES, count[SPZ_SECTION_BOUNDARY_VALUES] == 2 * nbv,
+       "two per boundary vertex"},
+      {SPZ_SECTION_LOCUS_PLANES,
+       count[SPZ_SECTION_LOCUS_PLANES] % 4 == 0 && locus_planes > 0 &&
+           locus_planes <= SPZ_MAX_GAMUT_PLANES,
+       "1 to SPZ_MAX_GAMUT_PLANES planes of four"},
+      {SPZ_SECTION_SOLID_PLANES,
+       count[SPZ_SECTION_SOLID_PLANES] % 4 == 0 && solid_planes <= SPZ_MAX_GAMUT_PLANES &&
+           (reflectance ? solid_planes > 0 : solid_planes == 0),
+       "planes of four (reflectance: 1 to SPZ_MAX_GAMUT_PLANES; emission: none)"},
+      {SPZ_SECTION_BAND_WEIGHTS, count[SPZ_SECTION_BAND_WEIGHTS] == 3 * std::uint64_t{bands},
+       "three per band"}};
+  for (const Expect& e : expects)
+    if (!e.ok)
+      return say(error, error_size, "section '%s' holds %llu elements, not %s",
+                 detail::section_name(e.section), static_cast<unsigned long long>(count[e.section]),
+                 e.what),
+             false;
   // Contents.
   auto u32 = [&](int s) { return static_cast<const std::uint32_t*>(at[s]); };
   auto f64 = [&](int s) { return static_cast<const double*>(at[s]); };
@@ -601,9 +770,13 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
         return say(error, error_size, "axis %d is not increasing", a), false;
     if (a < static_cast<int>(dims_)) {
       inverse_[a] = static_cast<const float*>(at[SPZ_SECTION_AXIS_INVERSE]) + inv_at;
-      for (std::uint32_t k = 0; k + 1 < n_[a]; ++k)
-        if (!(inverse_[a][k] > 0) || !std::isfinite(inverse_[a][k]))
-          return say(error, error_size, "bad interval of axis %d", a), false;
+      for (std::uint32_t k = 0; k + 1 < n_[a]; ++k) {
+        // 1 / the interval, as the writer rounds it to float (from the double interval).
+        const double want = 1.0 / (static_cast<double>(axis_[a][k + 1]) - axis_[a][k]);
+        if (!(std::abs(inverse_[a][k] - want) <= 1e-4 * want))
+          return say(error, error_size, "axis inverse %u of axis %d is not 1 / its interval", k, a),
+                 false;
+      }
       inv_at += n_[a] - 1;
     }
     lut_[a] = u32(SPZ_SECTION_AXIS_LUT) + lut_at;
@@ -624,23 +797,28 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     }
     std::uint32_t expect = 0;
     for (std::uint32_t b = 0; b < lut_size_[a]; ++b) {
-      const float at = lut_origin_[a] + static_cast<float>(b) / lut_inv_[a];
-      while (expect + 2 < n_[a] && at >= axis_[a][expect + 1]) ++expect;
+      const float start = lut_origin_[a] + static_cast<float>(b) / lut_inv_[a];
+      while (expect + 2 < n_[a] && start >= axis_[a][expect + 1]) ++expect;
       if (lut_[a][b] != expect)
-        return say(error, error_size, "bad lookup entry of axis %d", a), false;
+        return say(error, error_size, "axis lookup entry %u of axis %d is wrong", b, a), false;
     }
     lut_at += lut_size_[a];
   }
   slots_ = u32(SPZ_SECTION_NODE_SLOTS);
   for (std::uint64_t k = 0; k < nodes; ++k)
     if (slots_[k] != SPZ_OUTSIDE && slots_[k] >= slots)
-      return say(error, error_size, "node %llu has a bad slot", static_cast<unsigned long long>(k)),
+      return say(error, error_size, "node slot %llu names spectrum %u of %llu",
+                 static_cast<unsigned long long>(k), slots_[k],
+                 static_cast<unsigned long long>(slots)),
              false;
   spectra_ = static_cast<const float*>(at[SPZ_SECTION_SPECTRA]);
   for (std::uint64_t k = 0; k < slots * bands; ++k)
-    if (!(spectra_[k] >= 0.0f) || !std::isfinite(spectra_[k]) ||
-        (reflectance && spectra_[k] > 1.0f))
-      return say(error, error_size, "a node spectrum is out of bounds"), false;
+    if (!(spectra_[k] >= 0.0f && spectra_[k] <= h->sample_bound))
+      return say(error, error_size, "spectrum %llu, sample %llu is %g: not in [0, sample_bound %g]",
+                 static_cast<unsigned long long>(k / bands),
+                 static_cast<unsigned long long>(k % bands), static_cast<double>(spectra_[k]),
+                 h->sample_bound),
+             false;
   bcells_ = u32(SPZ_SECTION_BOUNDARY_CELLS);
   simplices_ = u32(SPZ_SECTION_SIMPLICES);
   bpos_ = f64(SPZ_SECTION_BOUNDARY_POSITIONS);
@@ -650,26 +828,66 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   for (std::uint64_t v = 0; v < nbv; ++v) {
     for (int c = 0; c < 3; ++c)
       if (!detail::finite(bpos_[3 * v + c]))
-        return say(error, error_size, "bad boundary vertex"), false;
+        return say(error, error_size, "boundary position %llu is not finite",
+                   static_cast<unsigned long long>(v)),
+               false;
     if ((bpick_[v] & 0xFFFFu) >= bands || (bpick_[v] >> 16) >= bands)
-      return say(error, error_size, "bad boundary vertex sample"), false;
+      return say(error, error_size, "boundary pick %llu names a sample beyond the bands",
+                 static_cast<unsigned long long>(v)),
+             false;
     for (int c = 0; c < 2; ++c) {
       const float x = bvalue_[2 * v + c];
-      if (!(x >= 0.0f) || !std::isfinite(x) || (reflectance && x > 1.0f))
-        return say(error, error_size, "a boundary spectrum is out of bounds"), false;
+      if (!(x >= 0.0f && x <= h->sample_bound))
+        return say(error, error_size, "boundary value %llu is not in [0, sample_bound]",
+                   static_cast<unsigned long long>(v)),
+               false;
     }
+    bool any_one = false;
+    for (std::uint32_t w = 0; w < h->mask_words; ++w)
+      any_one = any_one || bmask_[v * h->mask_words + w] != 0;
+    if (any_one && !(h->sample_bound >= 1))
+      return say(error, error_size, "boundary mask %llu holds samples above sample_bound",
+                 static_cast<unsigned long long>(v)),
+             false;
     const std::uint32_t last = bmask_[(v + 1) * h->mask_words - 1];
     if (bands % 32 != 0 && (last >> (bands % 32)) != 0)
-      return say(error, error_size, "a boundary mask has bits beyond the samples"), false;
+      return say(error, error_size, "boundary mask %llu has bits beyond the bands",
+                 static_cast<unsigned long long>(v)),
+             false;
   }
   const std::uint32_t corners = reflectance ? 8 : 4;
   for (std::uint64_t s = 0; s < nsimplex * 4; ++s) {
     const std::uint32_t r = simplices_[s];
     if ((r & SPZ_BOUNDARY_BIT) ? (r & ~SPZ_BOUNDARY_BIT) >= nbv : r >= corners)
-      return say(error, error_size, "a simplex has a bad vertex"), false;
+      return say(error, error_size, "simplex %llu has a bad vertex",
+                 static_cast<unsigned long long>(s / 4)),
+             false;
   }
+  // Boundary cells hold consecutive runs of simplices, in order, each run no longer than
+  // max_cell_simplices, together every simplex: a fetch's work is bounded, and the checks below
+  // visit each simplex once.
+  std::uint64_t next_simplex = 0;
+  for (std::uint64_t b = 0; b < nbc; ++b) {
+    const std::uint64_t first = bcells_[2 * b], n = bcells_[2 * b + 1];
+    if (first != next_simplex || n == 0 || n > h->max_cell_simplices || n > nsimplex - first)
+      return say(error, error_size,
+                 "boundary cell %llu: simplices %llu..%llu (runs are consecutive, 1 to "
+                 "max_cell_simplices %u long, %llu in all)",
+                 static_cast<unsigned long long>(b), static_cast<unsigned long long>(first),
+                 static_cast<unsigned long long>(first + n), h->max_cell_simplices,
+                 static_cast<unsigned long long>(nsimplex)),
+             false;
+    next_simplex = first + n;
+  }
+  if (next_simplex != nsimplex)
+    return say(error, error_size, "simplices %llu..%llu belong to no boundary cell",
+               static_cast<unsigned long long>(next_simplex),
+               static_cast<unsigned long long>(nsimplex)),
+           false;
+  // Cells: each boundary cell named by exactly one cell, in order (as the writer numbers them).
   cells_ = u32(SPZ_SECTION_CELLS);
   const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
+  std::uint64_t next_boundary = 0;
   for (std::uint64_t c = 0; c < cells; ++c) {
     const std::uint32_t code = cells_[c];
     const int i[3] = {static_cast<int>(c % cx), static_cast<int>((c / cx) % cy),
@@ -678,27 +896,48 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     if (code == 0) {
       for (std::uint32_t k = 0; k < corners; ++k)
         if (slot_of_corner(i, k) == SPZ_OUTSIDE)
-          return say(error, error_size, "an inside cell has a corner without spectrum"), false;
+          return say(error, error_size, "inside cell %llu has a corner without spectrum",
+                     static_cast<unsigned long long>(c)),
+                 false;
       continue;
     }
     const std::uint32_t b = code & ~SPZ_BOUNDARY_BIT;
-    if (!(code & SPZ_BOUNDARY_BIT) || b >= nbc)
-      return say(error, error_size, "cell %llu has a bad code", static_cast<unsigned long long>(c)),
+    if (!(code & SPZ_BOUNDARY_BIT) || b != next_boundary)
+      return say(error, error_size,
+                 "cell %llu has code 0x%08x (boundary cells are numbered in cell order)",
+                 static_cast<unsigned long long>(c), code),
              false;
+    ++next_boundary;
     const std::uint64_t first = bcells_[2 * b], n = bcells_[2 * b + 1];
-    if (n == 0 || first + n > nsimplex)
-      return say(error, error_size, "boundary cell %u has bad simplices", b), false;
     for (std::uint64_t s = first * 4; s < (first + n) * 4; ++s)
       if (!(simplices_[s] & SPZ_BOUNDARY_BIT) && slot_of_corner(i, simplices_[s]) == SPZ_OUTSIDE)
-        return say(error, error_size, "a boundary simplex has a corner without spectrum"), false;
+        return say(error, error_size, "a simplex of cell %llu has a corner without spectrum",
+                   static_cast<unsigned long long>(c)),
+               false;
   }
+  if (next_boundary != nbc)
+    return say(error, error_size, "boundary cells %llu..%llu belong to no cell",
+               static_cast<unsigned long long>(next_boundary),
+               static_cast<unsigned long long>(nbc)),
+           false;
   const int plane_sections[2] = {SPZ_SECTION_LOCUS_PLANES, SPZ_SECTION_SOLID_PLANES};
   for (int s : plane_sections)
-    for (std::uint64_t k = 0; k < count[s]; ++k)
-      if (!detail::finite(f64(s)[k]))
-        return say(error, error_size, "a gamut plane is not finite"), false;
-  locus_ = {f64(SPZ_SECTION_LOCUS_PLANES), count[SPZ_SECTION_LOCUS_PLANES] / 4};
-  solid_ = {f64(SPZ_SECTION_SOLID_PLANES), count[SPZ_SECTION_SOLID_PLANES] / 4};
+    for (std::uint64_t k = 0; k < count[s] / 4; ++k) {
+      const double* p = f64(s) + 4 * k;
+      const double norm = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      if (!detail::finite(p[3]) || !(std::abs(norm - 1) <= 1e-6))
+        return say(error, error_size, "plane %llu of '%s' is not a unit normal and an offset",
+                   static_cast<unsigned long long>(k), detail::section_name(s)),
+               false;
+    }
+  locus_ = {f64(SPZ_SECTION_LOCUS_PLANES), locus_planes};
+  solid_ = {f64(SPZ_SECTION_SOLID_PLANES), solid_planes};
+  band_weights_ = f64(SPZ_SECTION_BAND_WEIGHTS);
+  for (std::uint64_t k = 0; k < 3 * std::uint64_t{bands}; ++k)
+    if (!detail::finite(band_weights_[k]))
+      return say(error, error_size, "band weight %llu is not finite",
+                 static_cast<unsigned long long>(k)),
+             false;
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
   for (int a = 0; a < 3; ++a)
     fast_[a] = {axis_[a],    inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a],
@@ -711,19 +950,128 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   step_ = static_cast<float>(h->lambda_step);
   inv_step_ = static_cast<float>(1.0 / h->lambda_step);
   last_ = static_cast<float>(bands - 1);
+  // A light's samples are its scale times at most sample_bound: below float's largest.
+  max_scale_ = static_cast<float>(3.0e38 / h->sample_bound);
+  if (!check_meaning(error, error_size)) {
+    *this = TableView{};
+    return false;
+  }
   return true;
 }
 
-inline bool TableView::locate(const double u[3], int i[3], double f[3], bool clamp) const noexcept {
+// What the table means, checked in O(size): every stored spectrum reproduces the colour of its
+// position under the band weights to 1e-5 relative; an emission table's samples are no larger
+// than a spectrum of X+Y+Z = 1 can hold; the gamuts hold the colours of nodes with spectra.
+inline bool TableView::check_meaning(char* error, std::size_t error_size) const noexcept {
+  using detail::say;
+  const spz_file_header* h = h_;
+  const double* w = band_weights_;
+  // The target colour of table coordinates: reflectance RGB, emission CIE xy of X+Y+Z = 1.
+  auto target = [&](const double p[3]) {
+    if (reflectance_) return detail::mul(h->rgb_to_target, {p[0], p[1], p[2]});
+    return detail::Vec3{p[0], p[1], 1 - p[0] - p[1]};
+  };
+  auto check = [&](const detail::Vec3& want, const double got[3], double spread, const char* what,
+                   unsigned long long index) {
+    const double scale = detail::max_abs(want);
+    const double err = std::max(std::abs(got[0] - want.x),
+                                std::max(std::abs(got[1] - want.y), std::abs(got[2] - want.z)));
+    if (err <= 1e-5 * scale + 1e-6 * spread) return true;
+    say(error, error_size,
+        "%s %llu does not reproduce the colour of its position (relative error %.2g): a wrong "
+        "spectrum, position, band weight or matrix",
+        what, index, scale > 0 ? err / scale : err);
+    return false;
+  };
+  const std::uint64_t nx = n_[0], nxy = static_cast<std::uint64_t>(n_[0]) * n_[1];
+  const std::uint64_t nodes = nxy * n_[2];
+  auto position = [&](std::uint64_t n, double p[3]) {
+    p[0] = axis_[0][n % nx], p[1] = axis_[1][(n / nx) % n_[1]], p[2] = axis_[2][n / nxy];
+  };
+  std::uint64_t with_spectrum = 0;
+  for (std::uint64_t n = 0; n < nodes; ++n) {
+    const std::uint32_t slot = slots_[n];
+    if (slot == SPZ_OUTSIDE) continue;
+    double p[3];
+    position(n, p);
+    const float* s = spectra_ + static_cast<std::size_t>(slot) * bands_;
+    double got[3] = {0, 0, 0}, spread = 0;
+    for (std::uint32_t k = 0; k < bands_; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const double v = s[k] * w[3 * k + c];
+        got[c] += v;
+        spread += std::abs(v);
+      }
+    if (!check(target(p), got, spread, "node", static_cast<unsigned long long>(n))) return false;
+    ++with_spectrum;
+  }
+  // Boundary vertices: 0/1 samples but two.
+  const std::uint64_t nbv = h->sections[SPZ_SECTION_BOUNDARY_PICKS].count;
+  for (std::uint64_t v = 0; v < nbv; ++v) {
+    double got[3] = {0, 0, 0}, spread = 0;
+    const std::uint32_t ref = SPZ_BOUNDARY_BIT | static_cast<std::uint32_t>(v);
+    for (std::uint32_t k = 0; k < bands_; ++k) {
+      const double value = detail::vertex_value(*this, ref, k);
+      for (int c = 0; c < 3; ++c) {
+        got[c] += value * w[3 * k + c];
+        spread += std::abs(value * w[3 * k + c]);
+      }
+    }
+    if (!check(target(bpos_ + 3 * v), got, spread, "boundary vertex",
+               static_cast<unsigned long long>(v)))
+      return false;
+  }
+  // Emission: no sample beyond what a spectrum of X+Y+Z = 1 can hold (1 / the band's X+Y+Z
+  // weight, spectra being >= 0), so that a light's scale bounds its samples.
+  if (!reflectance_) {
+    double most = 0;
+    for (std::uint32_t k = 0; k < bands_; ++k) {
+      const double sum = w[3 * k] + w[3 * k + 1] + w[3 * k + 2];
+      if (sum > 0) most = std::max(most, 1 / sum);
+    }
+    if (!(h->sample_bound <= most * (1 + 1e-3)))
+      return say(error, error_size,
+                 "sample_bound %g is more than a spectrum of X+Y+Z = 1 can hold (%g)",
+                 h->sample_bound, most),
+             false;
+  }
+  // The gamut holds the colours of nodes with spectra (64 of them, spread over the nodes):
+  // planes that reject everything would map every colour.
+  const detail::Gamut& gamut = reflectance_ ? solid_ : locus_;
+  const std::uint64_t step = std::max<std::uint64_t>(1, with_spectrum / 64);
+  std::uint64_t seen = 0;
+  for (std::uint64_t n = 0; n < nodes; ++n) {
+    if (slots_[n] == SPZ_OUTSIDE || seen++ % step != 0) continue;
+    double p[3];
+    position(n, p);
+    const detail::Vec3 t = target(p);
+    // A node on the gamut's boundary lies within its rounding: 1e-6 of the colour.
+    const double slack = 1e-6 * detail::max_abs(t);
+    for (std::uint64_t f = 0; f < gamut.count; ++f)
+      if (detail::dot(gamut.planes + 4 * f, t) > gamut.planes[4 * f + 3] + slack)
+        return say(error, error_size,
+                   "plane %llu of the %s rejects node %llu, which has a spectrum",
+                   static_cast<unsigned long long>(f), reflectance_ ? "solid" : "locus",
+                   static_cast<unsigned long long>(n)),
+               false;
+  }
+  return true;
+}
+
+inline bool TableView::locate(const double u[3], int i[3], double f[3], bool clamp,
+                              bool* moved) const noexcept {
   for (std::uint32_t a = 0; a < dims_; ++a) {
     const float* p = axis_[a];
     const std::uint32_t n = n_[a];
     double v = u[a];
     if (clamp) v = std::min(std::max(v, static_cast<double>(p[0])), static_cast<double>(p[n - 1]));
+    if (moved && v != u[a]) *moved = true;
     if (!(v >= p[0] && v <= p[n - 1])) return false;
-    const float b = (static_cast<float>(v) - lut_origin_[a]) * lut_inv_[a];
-    std::uint32_t bin = b > 0 ? static_cast<std::uint32_t>(b) : 0u;
-    if (bin >= lut_size_[a]) bin = lut_size_[a] - 1;
+    // Clamped before the cast (a NaN compares false: bin 0).
+    float b = (static_cast<float>(v) - lut_origin_[a]) * lut_inv_[a];
+    b = b > 0 ? b : 0.0f;
+    b = b < static_cast<float>(lut_size_[a] - 1) ? b : static_cast<float>(lut_size_[a] - 1);
+    const std::uint32_t bin = static_cast<std::uint32_t>(b);
     std::uint32_t k = lut_[a][bin];
     while (k > 0 && v < p[k]) --k;
     while (k + 2 < n && v >= p[k + 1]) ++k;
@@ -734,19 +1082,29 @@ inline bool TableView::locate(const double u[3], int i[3], double f[3], bool cla
   return true;
 }
 
+// Whether table coordinates v give the colour of u to a relative 1e-6 (in the target colour:
+// leaves room for float evaluation within SPZ_EXACT_TOLERANCE), at any magnitude.
+inline bool TableView::close_to(const double u[3], const double v[3]) const noexcept {
+  detail::Vec3 want, diff;
+  if (reflectance_) {
+    want = detail::mul(h_->rgb_to_target, {u[0], u[1], u[2]});
+    diff = detail::mul(h_->rgb_to_target, {v[0] - u[0], v[1] - u[1], v[2] - u[2]});
+  } else {
+    want = {u[0], u[1], 1 - u[0] - u[1]};
+    diff = {v[0] - u[0], v[1] - u[1], -(v[0] - u[0]) - (v[1] - u[1])};
+  }
+  return detail::max_abs(diff) <= 1e-6 * detail::max_abs(want);
+}
+
 inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const double u[3],
-                                      Spectrum& s, bool nearest) const noexcept {
+                                      Spectrum& s, bool nearest, bool* reproduced) const noexcept {
   const std::uint32_t first = bcells_[2 * b], count = bcells_[2 * b + 1];
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     lo[a] = axis_[a][i[a]];
     hi[a] = a < static_cast<int>(dims_) ? axis_[a][i[a] + 1] : lo[a];
   }
-  double best = -1e300, best_w[4] = {0, 0, 0, 0};
-  const std::uint32_t* chosen = nullptr;
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const std::uint32_t* r = simplices_ + 4 * (static_cast<std::size_t>(first) + k);
-    double p[4][3];
+  auto vertices = [&](const std::uint32_t* r, double p[4][3]) {
     for (int v = 0; v < 4; ++v) {
       if (r[v] & SPZ_BOUNDARY_BIT) {
         const double* q = bpos_ + 3 * static_cast<std::size_t>(r[v] & ~SPZ_BOUNDARY_BIT);
@@ -755,62 +1113,102 @@ inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const dou
         for (int a = 0; a < 3; ++a) p[v][a] = (r[v] >> a) & 1u ? hi[a] : lo[a];
       }
     }
-    double w[4];
-    const double d[3] = {u[0] - p[0][0], u[1] - p[0][1], dims_ == 3 ? u[2] - p[0][2] : 0.0};
+  };
+  double best = -1e300, best_w[4] = {0, 0, 0, 0}, best_p[4][3] = {};
+  const std::uint32_t* chosen = nullptr;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t* r = simplices_ + 4 * (static_cast<std::size_t>(first) + k);
+    double p[4][3];
+    vertices(r, p);
+    // Barycentric weights relative to the vertex nearest u: near black (a vertex of the solid)
+    // a tiny colour keeps its own relative precision.
+    int o = 0;
+    double nearest_d = 1e300;
+    for (int v = 0; v <= static_cast<int>(dims_); ++v) {
+      const double d0 = u[0] - p[v][0], d1 = u[1] - p[v][1];
+      const double d2 = dims_ == 3 ? u[2] - p[v][2] : 0.0;
+      const double d = d0 * d0 + d1 * d1 + d2 * d2;
+      if (d < nearest_d) nearest_d = d, o = v;
+    }
+    int others[3], m = 0;
+    for (int v = 0; v <= static_cast<int>(dims_); ++v)
+      if (v != o) others[m++] = v;
+    double w[4] = {0, 0, 0, 0};
+    const double d[3] = {u[0] - p[o][0], u[1] - p[o][1], dims_ == 3 ? u[2] - p[o][2] : 0.0};
     if (dims_ == 3) {
       double e[3][3];
       for (int v = 0; v < 3; ++v)
-        for (int a = 0; a < 3; ++a) e[v][a] = p[v + 1][a] - p[0][a];
-      // Cramer: w_v = det(e with column v replaced by d) / det(e).
-      auto det3 = [](const double* a, const double* b, const double* c) {
-        return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-               a[2] * (b[0] * c[1] - b[1] * c[0]);
+        for (int a = 0; a < 3; ++a) e[v][a] = p[others[v]][a] - p[o][a];
+      // Cramer: each weight = det(e with its column replaced by d) / det(e).
+      auto det3 = [](const double* a, const double* bb, const double* c) {
+        return a[0] * (bb[1] * c[2] - bb[2] * c[1]) - a[1] * (bb[0] * c[2] - bb[2] * c[0]) +
+               a[2] * (bb[0] * c[1] - bb[1] * c[0]);
       };
       const double D = det3(e[0], e[1], e[2]);
       if (!(D != 0)) continue;
-      w[1] = det3(d, e[1], e[2]) / D;
-      w[2] = det3(e[0], d, e[2]) / D;
-      w[3] = det3(e[0], e[1], d) / D;
+      w[others[0]] = det3(d, e[1], e[2]) / D;
+      w[others[1]] = det3(e[0], d, e[2]) / D;
+      w[others[2]] = det3(e[0], e[1], d) / D;
     } else {
-      const double a = p[1][0] - p[0][0], bb = p[2][0] - p[0][0];
-      const double c = p[1][1] - p[0][1], dd = p[2][1] - p[0][1];
+      const double a = p[others[0]][0] - p[o][0], bb = p[others[1]][0] - p[o][0];
+      const double c = p[others[0]][1] - p[o][1], dd = p[others[1]][1] - p[o][1];
       const double D = a * dd - bb * c;
       if (!(D != 0)) continue;
-      w[1] = (d[0] * dd - bb * d[1]) / D;
-      w[2] = (a * d[1] - c * d[0]) / D;
-      w[3] = 0;
+      w[others[0]] = (d[0] * dd - bb * d[1]) / D;
+      w[others[1]] = (a * d[1] - c * d[0]) / D;
     }
-    w[0] = 1 - w[1] - w[2] - w[3];
-    double worst = std::min(std::min(w[0], w[1]), w[2]);
-    if (dims_ == 3) worst = std::min(worst, w[3]);
+    double rest = 0;
+    for (int v = 0; v <= static_cast<int>(dims_); ++v)
+      if (v != o) rest += w[v];
+    w[o] = 1 - rest;
+    double worst = 1;
+    for (int v = 0; v <= static_cast<int>(dims_); ++v) worst = std::min(worst, w[v]);
     if (worst > best) {
       best = worst, chosen = r;
-      for (int v = 0; v < 4; ++v) best_w[v] = w[v];
-      if (worst >= -1e-12) break;
+      for (int v = 0; v < 4; ++v) {
+        best_w[v] = w[v];
+        for (int a = 0; a < 3; ++a) best_p[v][a] = p[v][a];
+      }
+      if (worst >= 0) break;
     }
   }
   if (!chosen) return false;
-  if (best < -1e-9) {
+  // The colour the clamped weights give: the colour asked, to rounding, or another one.
+  auto blended = [&](const double w[4], const double p[4][3], double out[3]) {
+    double sum = 0;
+    for (int v = 0; v < 4; ++v) sum += std::max(w[v], 0.0);
+    out[0] = out[1] = out[2] = 0;
+    for (int v = 0; v < 4; ++v)
+      for (int a = 0; a < 3; ++a) out[a] += std::max(w[v], 0.0) / sum * p[v][a];
+    if (dims_ == 2) out[2] = u[2];
+  };
+  double got[3];
+  blended(best_w, best_p, got);
+  bool holds = best >= 0 || close_to(u, got);
+  if (!holds) {
     if (!nearest) return false;
     // Within rounding of the gamut but outside the cell's simplices (float input on the
-    // boundary): the blend of the nearest point of the nearest simplex.
+    // boundary, a colour mapped just short of it): the blend of the nearest point of the
+    // nearest simplex, a colour other than the one asked.
     double nearest_dist = 1e300;
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t* r = simplices_ + 4 * (static_cast<std::size_t>(first) + k);
       double p[4][3], w[4];
-      for (int v = 0; v < 4; ++v)
-        for (int a = 0; a < 3; ++a)
-          p[v][a] = (r[v] & SPZ_BOUNDARY_BIT)
-                        ? bpos_[3 * static_cast<std::size_t>(r[v] & ~SPZ_BOUNDARY_BIT) + a]
-                        : ((r[v] >> a) & 1u ? hi[a] : lo[a]);
+      vertices(r, p);
       const double x[3] = {u[0], u[1], dims_ == 3 ? u[2] : p[0][2]};
       const double dist = detail::closest_in_simplex(p, static_cast<int>(dims_), x, w);
       if (dist < nearest_dist) {
         nearest_dist = dist, chosen = r;
-        for (int v = 0; v < 4; ++v) best_w[v] = w[v];
+        for (int v = 0; v < 4; ++v) {
+          best_w[v] = w[v];
+          for (int a = 0; a < 3; ++a) best_p[v][a] = p[v][a];
+        }
       }
     }
+    blended(best_w, best_p, got);
+    holds = close_to(u, got);
   }
+  if (reproduced && !holds) *reproduced = false;
   double sum = 0;
   for (double& w : best_w) sum += (w = std::max(w, 0.0));
   s.flags &= ~1u;
@@ -828,7 +1226,7 @@ inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const dou
 }
 
 inline bool TableView::cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
-                                  bool nearest) const noexcept {
+                                  bool nearest, bool* reproduced) const noexcept {
   const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
   const std::uint32_t code =
       cells_[static_cast<std::uint32_t>(i[0]) +
@@ -858,7 +1256,7 @@ inline bool TableView::cell_blend(const int i[3], const double f[3], const doubl
     return true;
   }
   if (code == SPZ_OUTSIDE) return false;
-  return boundary_blend(code & ~SPZ_BOUNDARY_BIT, i, u, s, nearest);
+  return boundary_blend(code & ~SPZ_BOUNDARY_BIT, i, u, s, nearest, reproduced);
 }
 
 // The lookup of fetch(): float arithmetic, one interval step after the bin, Kuhn weights in
@@ -872,7 +1270,11 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
     const AxisFast& x = fast_[a];
     const float v = u[a];
     inside = inside && v >= x.p[0] && v <= x.p[x.n - 1];  // false for NaN
-    const float b = std::min(std::max((v - x.origin) * x.inv_bin, 0.0f), x.last_bin);
+    // The bin, clamped before the cast so that NaN and infinities are no undefined behaviour
+    // (a NaN compares false: bin 0).
+    float b = (v - x.origin) * x.inv_bin;
+    b = b > 0.0f ? b : 0.0f;
+    b = b < x.last_bin ? b : x.last_bin;
     std::uint32_t k = x.lut[static_cast<std::uint32_t>(b)];
     k -= static_cast<std::uint32_t>(k > 0) & static_cast<std::uint32_t>(v < x.p[k]);
     k += static_cast<std::uint32_t>(k + 2 < x.n) & static_cast<std::uint32_t>(v >= x.p[k + 1]);
@@ -886,7 +1288,7 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
     if (code == SPZ_OUTSIDE) return false;
     const int ii[3] = {static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])};
     const double du[3] = {u[0], u[1], dims == 3 ? u[2] : 0.0};
-    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false);
+    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false, nullptr);
   }
   // Kuhn: the axes in decreasing order of their fractions; the weights are the gaps.
   const std::uint32_t base = i[0] + nx * i[1] + nxy * i[2];
@@ -907,9 +1309,11 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
     const std::uint32_t r0 = gt01 + gt02, r1 = (1 - gt01) + gt12, r2 = (1 - gt02) + (1 - gt12);
     const std::uint32_t first = (r0 == 0) * 1 + (r1 == 0) * nx + (r2 == 0) * nxy;
     const std::uint32_t second = (r0 == 1) * 1 + (r1 == 1) * nx + (r2 == 1) * nxy;
+    // hi >= mid >= lo exactly (a sorting network, not a sum that rounds): every weight below
+    // is the difference of two ordered floats, so >= 0 bit for bit.
     const float hi = std::max(std::max(f[0], f[1]), f[2]);
     const float lo = std::min(std::min(f[0], f[1]), f[2]);
-    const float mid = f[0] + f[1] + f[2] - hi - lo;
+    const float mid = std::max(std::min(f[0], f[1]), std::min(std::max(f[0], f[1]), f[2]));
     s.vertex[0] = slots_[base];
     s.vertex[1] = slots_[base + first];
     s.vertex[2] = slots_[base + first + second];
@@ -922,11 +1326,14 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
   }
 }
 
-inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest) const noexcept {
+inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest,
+                             bool* reproduced) const noexcept {
   int i[3] = {0, 0, 0};  // set by locate(); initialised for GCC's -Wmaybe-uninitialized
   double f[3] = {0, 0, 0};
-  if (!locate(u, i, f, nearest)) return false;
-  if (cell_blend(i, f, u, s, false)) return true;
+  bool moved = false;
+  if (!locate(u, i, f, nearest, &moved)) return false;
+  if (moved && reproduced) *reproduced = false;  // a colour beyond the grid, clamped onto it
+  if (cell_blend(i, f, u, s, false, reproduced)) return true;
   if (!nearest) return false;
   // A point on a face between cells (the solid's white vertex is a corner of cells outside
   // it) belongs to the neighbours that touch it too; else the nearest simplex of its cell.
@@ -944,24 +1351,33 @@ inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest) const
         touches = false;
       }
     }
-    if (touches && cell_blend(j, g, u, s, false)) return true;
+    if (touches && cell_blend(j, g, u, s, false, reproduced)) return true;
   }
-  return cell_blend(i, f, u, s, true);
+  return cell_blend(i, f, u, s, true, reproduced);
 }
 
 inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
+  if (!h_) {  // an empty view: the zero spectrum of no table
+    s.table = nullptr;
+    s.flags = 0;
+    zero(s);
+    return SPZ_INVALID;
+  }
   s.table = this;
   s.flags = reflectance_ ? 2u : 0u;
   if (reflectance_) {
     s.scale = 1;
-    if (fast_blend<3>(rgb, s)) return SPZ_EXACT;
+    // Colours darker than kDarkest go the slow way (false for NaN too).
+    const float top = std::max(std::max(rgb[0], rgb[1]), rgb[2]);
+    if (top >= static_cast<float>(kDarkest) && fast_blend<3>(rgb, s)) return SPZ_EXACT;
   } else {
     const float* m = to_target_f_;
     const float X = m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2];
     const float Y = m[3] * rgb[0] + m[4] * rgb[1] + m[5] * rgb[2];
     const float Z = m[6] * rgb[0] + m[7] * rgb[1] + m[8] * rgb[2];
     const float S = X + Y + Z;
-    if (S > 0 && std::isfinite(S)) {
+    // Its samples are S times at most sample_bound: finite (false for NaN and infinities).
+    if (S >= static_cast<float>(kDarkest) && S <= max_scale_) {
       const float u[3] = {X / S, Y / S, 0};
       s.scale = S;
       if (fast_blend<2>(u, s)) return SPZ_EXACT;
@@ -1007,6 +1423,9 @@ inline int TableView::slow_fetch(const float rgb[3], Spectrum& s) const noexcept
   if (!detail::finite(t.x) || !detail::finite(t.y) || !detail::finite(t.z)) return SPZ_INVALID;
   if (t.x == 0 && t.y == 0 && t.z == 0) return SPZ_EXACT;  // black
   if (t.y < 0) return SPZ_NEGATIVE;
+  // So dark that a float spectrum cannot reproduce it to SPZ_EXACT_TOLERANCE (its samples would
+  // be denormal): black, and said to be another colour.
+  if (detail::max_abs(t) < kDarkest) return SPZ_MAPPED;
   const int status = map_target(t);
   if (!(t.y > 0)) return SPZ_MAPPED;  // a colour of zero luminance maps to black
   double u[3];
@@ -1016,13 +1435,23 @@ inline int TableView::slow_fetch(const float rgb[3], Spectrum& s) const noexcept
     s.scale = 1;
   } else {
     const double S = t.x + t.y + t.z;
+    if (!(S <= max_scale_)) {  // a light too bright for its spectrum to be finite in float
+      zero(s);
+      return SPZ_INVALID;
+    }
     u[0] = t.x / S, u[1] = t.y / S, u[2] = 0;
     s.scale = static_cast<float>(S);
   }
   // Inside the gamut (within its rounding, or mapped 1e-4 short of its boundary): the nearest
-  // simplex of the cell holds it.
-  if (!blend(u, s, true)) zero(s);
-  return status;
+  // simplex of the cell holds it. The spectrum of another colour than the one asked (beyond
+  // rounding: the nearest point of a simplex, a clamped position) is a mapping, and said so;
+  // none at all would be a table without the colours it claims to hold.
+  bool reproduced = true;
+  if (!blend(u, s, true, &reproduced)) {
+    zero(s);
+    return SPZ_INVALID;
+  }
+  return status == SPZ_EXACT && !reproduced ? SPZ_MAPPED : status;
 }
 
 inline int TableView::map_into_gamut(const double rgb[3], double mapped[3]) const noexcept {
@@ -1057,33 +1486,43 @@ inline bool Table::load(const char* path, char* error, std::size_t error_size) n
 #endif
   std::FILE* file = std::fopen(path, "rb");
   if (!file) return fail(std::strerror(errno));
+  struct Closer {
+    std::FILE* f;
+    ~Closer() { std::fclose(f); }
+  } closer{file};
   long length = -1;
   if (std::fseek(file, 0, SEEK_END) == 0) length = std::ftell(file);
-  if (length < 0 || std::fseek(file, 0, SEEK_SET) != 0) {
-    std::fclose(file);
-    return fail("cannot read its size");
-  }
-  constexpr long kMax = 1L << 30;
-  if (length > kMax) {
-    std::fclose(file);
-    return fail("larger than 1 GiB: not a table");
-  }
+  if (length < 0 || std::fseek(file, 0, SEEK_SET) != 0) return fail("cannot read its size");
   const std::size_t size = static_cast<std::size_t>(length);
-  data_ = static_cast<unsigned char*>(
-      ::operator new(std::max<std::size_t>(size, 1), std::align_val_t(64), std::nothrow));
-  if (!data_) {
-    std::fclose(file);
-    return fail("out of memory");
+  // The header first: a file that is no table of this version, or not of the size it says,
+  // is refused before anything else is read.
+  alignas(8) unsigned char head[SPZ_HEADER_SIZE];
+  if (size < SPZ_HEADER_SIZE) {
+    std::snprintf(reason, sizeof reason,
+                  "truncated: %zu bytes, a table has a %u-byte header at least", size,
+                  SPZ_HEADER_SIZE);
+    return fail(reason);
   }
-  const std::size_t got = size ? std::fread(data_, 1, size, file) : 0;
-  const bool read_error = std::ferror(file) != 0;
-  std::fclose(file);
-  if (got != size || read_error) {
+  if (std::fread(head, 1, SPZ_HEADER_SIZE, file) != SPZ_HEADER_SIZE)
+    return fail("cannot read its header");
+  if (!detail::check_header_start(reinterpret_cast<const spz_file_header*>(head), size, reason,
+                                  sizeof reason))
+    return fail(reason);
+  constexpr std::size_t kMax = std::size_t{1} << 30;
+  if (size > kMax) return fail("larger than 1 GiB: not a table this evaluator loads");
+  block_ = static_cast<unsigned char*>(
+      ::operator new(kBytesAt + size, std::align_val_t(64), std::nothrow));
+  if (!block_) return fail("out of memory");
+  unsigned char* data = block_ + kBytesAt;
+  std::memcpy(data, head, SPZ_HEADER_SIZE);
+  const std::size_t rest = size - SPZ_HEADER_SIZE;
+  const std::size_t got = rest ? std::fread(data + SPZ_HEADER_SIZE, 1, rest, file) : 0;
+  if (got != rest || std::ferror(file) != 0) {
     release();
     return fail("cannot read it whole");
   }
-  size_ = size;
-  if (!view_.open(data_, size_, reason, sizeof reason)) {
+  view_ = new (block_) TableView();
+  if (!view_->open(data, size, reason, sizeof reason)) {
     release();
     return fail(reason);
   }
@@ -1097,6 +1536,8 @@ struct spz_table {
   spz::Table table;
 };
 
+// rt.hpp has been read whole (rt.h may now include it again for the C definitions below).
+#define SPECTRALIZE_RT_HPP_DONE
 #endif  // SPECTRALIZE_RT_HPP
 
 // The C API's definitions, in the one translation unit that defines
@@ -1124,6 +1565,10 @@ void spz_table_free(spz_table* table) {
 }
 
 int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out) {
+  if (!table) {  // no table: the zero spectrum
+    *out = spz_spectrum{};
+    return SPZ_INVALID;
+  }
   return table->table.view().fetch(rgb, *out);
 }
 
@@ -1137,6 +1582,14 @@ void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]) {
 
 void spz_samples(const spz_spectrum* s, float* out) {
   spz::samples(*s, out);
+}
+
+size_t spz_samples_n(const spz_spectrum* s, float* out, size_t capacity) {
+  return spz::samples(*s, out, capacity);
+}
+
+size_t spz_spectrum_bands(const spz_spectrum* s) {
+  return spz::bands(*s);
 }
 
 size_t spz_table_bands(const spz_table* table) {

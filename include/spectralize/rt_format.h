@@ -1,12 +1,15 @@
-/* The .spztab file format, version 2 (docs/DESIGN.md §14): what `spectralize table` writes and
+/* The .spztab file format, version 3 (docs/DESIGN.md §14): what `spectralize table` writes and
  * <spectralize/rt.h> reads. Plain C, fixed-width fields, little-endian.
  *
- * A file is a 1024-byte header followed by 16 sections. Every section starts at a multiple of
+ * A file is a 1024-byte header followed by 17 sections. Every section starts at a multiple of
  * 64 bytes (so a file mapped into memory is aligned for SIMD loads) and holds `count` elements
  * of its type (the header's `sections` table gives offset and count). The checksum is the
  * 64-bit FNV-1a hash (offset basis 14695981039346656037, prime 1099511628211) of the whole
- * file with the checksum field taken as zero. Version 1 differed only in its checksum, made
- * with a wrong offset basis (1469598103934665603): version 1 files are refused by version.
+ * file with the checksum field taken as zero. Version 3 adds what a reader needs to check a
+ * table's meaning, not only its structure: each band's weights (the target XYZ of a unit
+ * sample, so every stored spectrum's colour is checked against its position), the largest
+ * sample, and the most simplices of a boundary cell (the bound of a fetch's cost). Versions 1
+ * and 2 are refused by version: make the table again with `spectralize table`.
  *
  * Geometry. Reflectance tables live in the colour space's linear RGB (coordinates = RGB);
  * emission tables in CIE xy of the colour's XYZ (scale = X+Y+Z). A grid of nodes (positions
@@ -21,12 +24,19 @@
 
 #include <stdint.h>
 
-#define SPZ_FORMAT_VERSION 2u
+#define SPZ_FORMAT_VERSION 3u
 #define SPZ_BYTE_ORDER_MARK 0x01020304u /* reads 04 03 02 01 in a little-endian file */
 #define SPZ_SECTION_ALIGNMENT 64u
 #define SPZ_HEADER_SIZE 1024u
 #define SPZ_OUTSIDE 0xFFFFFFFFu      /* a cell outside the gamut; a node without spectrum */
 #define SPZ_BOUNDARY_BIT 0x80000000u /* a boundary cell (cells), a boundary vertex (refs) */
+/* Bounds a reader enforces, so that loading costs O(file size) and a fetch a bounded time: */
+#define SPZ_MAX_CELL_SIMPLICES 65536u /* simplices of one boundary cell */
+#define SPZ_MAX_GAMUT_PLANES 1048576u /* planes of the locus, and of the solid */
+#define SPZ_MAX_BANDS 65535u          /* samples per spectrum */
+/* A fetch is SPZ_EXACT when its spectrum reproduces the colour to this relative error in the
+ * table's coordinates (in float: ~1e-7 inside cells, at most this on their boundaries). */
+#define SPZ_EXACT_TOLERANCE 1e-5
 
 enum spz_file_mode { SPZ_MODE_EMISSION = 0, SPZ_MODE_REFLECTANCE = 1 };
 
@@ -52,7 +62,9 @@ enum spz_section {
   SPZ_SECTION_LOCUS_PLANES = 14,       /* double[4 per plane]: n, d of the spectral locus (target
                                           XYZ, n . t <= d inside) */
   SPZ_SECTION_SOLID_PLANES = 15, /* double[4 per plane]: the reflectance solid (reflectance) */
-  SPZ_SECTION_COUNT = 16
+  SPZ_SECTION_BAND_WEIGHTS = 16, /* double[3 per band]: the target X, Y, Z of a unit sample of
+                                    band k (every stored spectrum s reproduces sum_k s_k w_k) */
+  SPZ_SECTION_COUNT = 17
 };
 
 typedef struct spz_section_entry {
@@ -89,13 +101,17 @@ typedef struct spz_file_header {
   uint32_t section_count;   /*  416 SPZ_SECTION_COUNT */
   uint32_t resolution[3];   /*  420 builder's node spacing: steps, coarse steps, chroma steps */
   spz_section_entry sections[SPZ_SECTION_COUNT]; /* 432 */
-  char colorspace[128];    /*  688 the OCIO colour space's name, NUL-terminated */
-  char interop_id[32];     /*  816 its colour interop ID, or "" */
-  char model[32];          /*  848 the spectrum model of the node spectra */
-  char observer[16];       /*  880 cie1931 | cie1964 */
-  char illuminant[32];     /*  896 reference illuminant (reflectance) */
-  char emission_basis[32]; /*  928 flat or an illuminant (emission) */
-  char generator[64];      /*  960 "spectralize <version>" */
-} spz_file_header;         /* 1024 bytes */
+  double sample_bound;         /*  704 no stored sample exceeds it (reflectance: <= 1; emission:
+                                       at most what a spectrum of X+Y+Z = 1 can hold) */
+  uint32_t max_cell_simplices; /*  712 the most simplices of a boundary cell (a fetch's cost) */
+  uint32_t reserved;           /*  716 0 */
+  char colorspace[104];        /*  720 the OCIO colour space's name, NUL-terminated */
+  char interop_id[32];         /*  824 its colour interop ID, or "" */
+  char model[32];              /*  856 the spectrum model of the node spectra */
+  char observer[16];           /*  888 cie1931 | cie1964 */
+  char illuminant[32];         /*  904 reference illuminant (reflectance) */
+  char emission_basis[32];     /*  936 flat or an illuminant (emission) */
+  char generator[56];          /*  968 "spectralize <version>" */
+} spz_file_header;             /* 1024 bytes */
 
 #endif /* SPECTRALIZE_RT_FORMAT_H */

@@ -23,7 +23,8 @@ static_assert(sizeof(spz_file_header) == SPZ_HEADER_SIZE, "the header is 1024 by
 // The file is little-endian: the native layout is written as is.
 static_assert(std::endian::native == std::endian::little, "little-endian hosts only");
 static_assert(offsetof(spz_file_header, sections) == 432, "header layout");
-static_assert(offsetof(spz_file_header, colorspace) == 688, "header layout");
+static_assert(offsetof(spz_file_header, sample_bound) == 704, "header layout");
+static_assert(offsetof(spz_file_header, colorspace) == 720, "header layout");
 // The reader's checksum skips bytes 24..31: the checksum field.
 static_assert(offsetof(spz_file_header, checksum) == 24 && sizeof(spz_file_header::checksum) == 8,
               "header layout");
@@ -156,6 +157,7 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
     return it->second;
   };
   std::vector<std::uint32_t> cells(table.cell_count()), bcells, simplices;
+  std::uint32_t most_simplices = 0;
   for (std::size_t c = 0; c < table.cell_count(); ++c) {
     const ExactTable::BoundaryCell* data = nullptr;
     switch (table.cell(c, &data)) {
@@ -169,6 +171,8 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
         cells[c] = SPZ_BOUNDARY_BIT | static_cast<std::uint32_t>(bcells.size() / 2);
         bcells.push_back(static_cast<std::uint32_t>(simplices.size() / 4));
         bcells.push_back(static_cast<std::uint32_t>(data->simplices.size()));
+        most_simplices =
+            std::max(most_simplices, static_cast<std::uint32_t>(data->simplices.size()));
         for (const ExactTable::Simplex& sx : data->simplices)
           for (std::uint32_t r : sx.vertex)
             simplices.push_back(r & SPZ_BOUNDARY_BIT
@@ -186,6 +190,22 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
     }
     return out;
   };
+  // What a reader checks the table's meaning with (rt_format.h, version 3): each band's target
+  // X, Y, Z per unit sample, the largest sample, the most simplices a fetch tests.
+  std::vector<double> band_weights;
+  for (const Xyz& w : sp.weights().columns())
+    band_weights.insert(band_weights.end(), {w.X, w.Y, w.Z});
+  double largest = 0;
+  for (float v : spectra) largest = std::max(largest, static_cast<double>(v));
+  for (float v : values) largest = std::max(largest, static_cast<double>(v));
+  for (std::uint32_t m : masks)
+    if (m != 0) largest = std::max(largest, 1.0);
+  h.sample_bound = largest > 0 ? largest : 1;
+  h.max_cell_simplices = most_simplices;
+  if (most_simplices > SPZ_MAX_CELL_SIMPLICES)
+    throw Error("a boundary cell of the table has " + std::to_string(most_simplices) +
+                " simplices, more than a table may hold (" +
+                std::to_string(SPZ_MAX_CELL_SIMPLICES) + "): use a coarser --wavelengths");
   const std::vector<double> locus = planes_of(sp.locus());
   const std::vector<double> solid = reflectance ? planes_of(sp.gamut()) : std::vector<double>{};
 
@@ -194,15 +214,23 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
     const void* data;
     std::size_t count, element;
   };
-  const Part parts[SPZ_SECTION_COUNT] = {
-      {axes[0].data(), axes[0].size(), 4},     {axes[1].data(), axes[1].size(), 4},
-      {axes[2].data(), axes[2].size(), 4},     {inverse.data(), inverse.size(), 4},
-      {luts.data(), luts.size(), 4},           {cells.data(), cells.size(), 4},
-      {slots.data(), slots.size(), 4},         {spectra.data(), spectra.size(), 4},
-      {bcells.data(), bcells.size(), 4},       {simplices.data(), simplices.size(), 4},
-      {positions.data(), positions.size(), 8}, {masks.data(), masks.size(), 4},
-      {picks.data(), picks.size(), 4},         {values.data(), values.size(), 4},
-      {locus.data(), locus.size(), 8},         {solid.data(), solid.size(), 8}};
+  const Part parts[SPZ_SECTION_COUNT] = {{axes[0].data(), axes[0].size(), 4},
+                                         {axes[1].data(), axes[1].size(), 4},
+                                         {axes[2].data(), axes[2].size(), 4},
+                                         {inverse.data(), inverse.size(), 4},
+                                         {luts.data(), luts.size(), 4},
+                                         {cells.data(), cells.size(), 4},
+                                         {slots.data(), slots.size(), 4},
+                                         {spectra.data(), spectra.size(), 4},
+                                         {bcells.data(), bcells.size(), 4},
+                                         {simplices.data(), simplices.size(), 4},
+                                         {positions.data(), positions.size(), 8},
+                                         {masks.data(), masks.size(), 4},
+                                         {picks.data(), picks.size(), 4},
+                                         {values.data(), values.size(), 4},
+                                         {locus.data(), locus.size(), 8},
+                                         {solid.data(), solid.size(), 8},
+                                         {band_weights.data(), band_weights.size(), 8}};
   std::size_t at = SPZ_HEADER_SIZE;
   for (int k = 0; k < static_cast<int>(SPZ_SECTION_COUNT); ++k) {
     at = (at + SPZ_SECTION_ALIGNMENT - 1) / SPZ_SECTION_ALIGNMENT * SPZ_SECTION_ALIGNMENT;

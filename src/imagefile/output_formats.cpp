@@ -312,7 +312,9 @@ void check_format(const OutputFormat& f, const OutputRequest& r, const std::stri
     throw Error(where + name + " holds exactly three channels (RGB); write .exr");
   // The format's own default is always what it does (Radiance HDR: rle, whatever is asked).
   if (!r.compression.empty() && r.compression != f.default_compression) {
-    const auto [cname, level] = split(r.compression);
+    // Not a structured binding: clang 14 (the fuzzers') cannot capture one in a lambda.
+    const auto parts = split(r.compression);
+    const std::string &cname = parts.first, &level = parts.second;
     const auto c = std::find_if(f.compressions.begin(), f.compressions.end(),
                                 [&](const CompressionChoice& x) { return x.name == cname; });
     if (c == f.compressions.end())

@@ -8,6 +8,7 @@
 
 #include "imagefile/safe_output.h"
 #include "pipeline/render_table.h"
+#include "settings/settings.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 #include "tool/flags.h"
@@ -27,9 +28,18 @@ int run_table(const Options& opt) {
   } catch (const Error& e) {
     throw UsageError{e.what()};
   }
+  const Settings& s = plan.settings;
+  // A flag that cannot shape this table is a mistake to say, not to ignore (--emission-basis on
+  // a reflectance table, --illuminant on an emission one, --filter on a model without it).
+  for (const std::string& flag : opt.given) {
+    const SettingSpec* spec = find_setting_for_flag(flag, kTable);
+    if (spec && !spec->matters(s))
+      throw UsageError{"table: " + flag + " does not shape " +
+                       (s.spectral.mode == Mode::emission ? "an emission" : "a reflectance") +
+                       " table of the " + s.spectral.model + " model; leave it out"};
+  }
   // The destination is checked (and its temporary made) before the work.
   AtomicOutput out(opt.output, {});
-  const Settings& s = plan.settings;
   const RenderTable table = make_render_table(plan, console_log(opt.verbosity));
   out.write(table.bytes);
   out.commit();

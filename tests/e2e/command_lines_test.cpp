@@ -52,6 +52,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadFlag{"--color 1,1,1 --tile 64", "--tile does not apply"},
         BadFlag{"--to-rgb x.exr -o y.exr --wavelengths 400:700:10", "--wavelengths does not apply"},
         BadFlag{"--color 1 1 1", "--color 1,1,1"},
+        // A table's flags that cannot shape it are refused, not ignored.
+        BadFlag{"table -o t.spztab --mode reflectance --emission-basis D65",
+                "--emission-basis does not shape a reflectance table"},
+        BadFlag{"table -o t.spztab --mode emission --illuminant A",
+                "--illuminant does not shape an emission table"},
+        BadFlag{"table -o t.spztab --mode reflectance --model natural --filter 0.5",
+                "--filter does not shape a reflectance table of the natural model"},
         BadFlag{"in.exr -o o.exr --compression bogus", "--compression: 'bogus'"},
         BadFlag{"--color 1,1,1 --colorspace "
                 "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"

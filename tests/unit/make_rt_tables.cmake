@@ -1,4 +1,5 @@
-# The tables the rt tests read, made by the real `spectralize table` (3 spaces x 2 modes).
+# The tables the rt tests read, made by the real `spectralize table` (3 spaces x 2 modes, and
+# sRGB reflectance tables of the other models).
 # Usage: cmake -DSPECTRALIZE=... -DOUT=DIR -P make_rt_tables.cmake
 file(MAKE_DIRECTORY ${OUT})
 foreach(entry "srgb;Linear Rec.709 (sRGB)" "rec2020;Linear Rec.2020" "acescg;ACEScg")
@@ -12,4 +13,12 @@ foreach(entry "srgb;Linear Rec.709 (sRGB)" "rec2020;Linear Rec.2020" "acescg;ACE
       message(FATAL_ERROR "spectralize table failed for ${space} ${mode}")
     endif()
   endforeach()
+endforeach()
+foreach(model natural smooth paper)
+  execute_process(COMMAND ${SPECTRALIZE} table -o ${OUT}/srgb_reflectance_${model}.spztab
+                          --colorspace "Linear Rec.709 (sRGB)" --mode reflectance --model ${model} -q
+                  RESULT_VARIABLE status)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "spectralize table failed for the ${model} model")
+  endif()
 endforeach()

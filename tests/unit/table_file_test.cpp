@@ -16,6 +16,7 @@
 #include <spectralize/rt_format.h>
 #include <spectralize/rt.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <random>
@@ -160,7 +161,7 @@ TEST(TableFile, TheHeaderSaysWhatTheTableWasMadeFrom) {
     const Made& m = made(mode);
     const spz_file_header& h = Opened(m.bytes).h;
     EXPECT_EQ(std::string(h.magic, 8), "SPZTABLE");
-    EXPECT_EQ(h.version, 2u);  // rt_format.h: version 2, the published FNV-1a checksum
+    EXPECT_EQ(h.version, 3u);  // rt_format.h: version 3, with the band weights
     EXPECT_EQ(h.byte_order, 0x01020304u);
     EXPECT_EQ(std::memcmp(m.bytes.data() + 12, "\x04\x03\x02\x01", 4), 0);  // little-endian
     EXPECT_EQ(h.header_size, 1024u);
@@ -199,7 +200,7 @@ TEST(TableFile, TheHeaderSaysWhatTheTableWasMadeFrom) {
     EXPECT_EQ(h.resolution[0], 4u);
     EXPECT_EQ(h.resolution[1], 1u);
     EXPECT_EQ(h.resolution[2], 16u);
-    EXPECT_EQ(h.section_count, 16u);
+    EXPECT_EQ(h.section_count, 17u);
     if (!refl) {
       EXPECT_EQ(h.nodes[2], 1u);  // emission: a 2-D grid
     }
@@ -219,12 +220,12 @@ TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
     // the file; an empty section has offset 0. Element sizes from rt_format.h.
     auto element = [](int k) {
       return k == SPZ_SECTION_BOUNDARY_POSITIONS || k == SPZ_SECTION_LOCUS_PLANES ||
-                     k == SPZ_SECTION_SOLID_PLANES
+                     k == SPZ_SECTION_SOLID_PLANES || k == SPZ_SECTION_BAND_WEIGHTS
                  ? 8u
                  : 4u;
     };
     std::uint64_t end = 1024;
-    for (int k = 0; k < 16; ++k) {
+    for (int k = 0; k < 17; ++k) {
       const spz_section_entry& e = h.sections[k];
       if (e.count == 0) {
         EXPECT_EQ(e.offset, 0u) << k;
@@ -370,16 +371,62 @@ TEST(TableFile, BoundaryVerticesAreStoredOnceAndTheirSpectraAreTheirColours) {
   EXPECT_LE(worst, 1e-5);
 }
 
+// What a reader checks the table's meaning with (format version 3): each band's weights are the
+// colour of a unit sample by the test's own integration of the CIE tables; sample_bound is the
+// largest stored sample; max_cell_simplices the most simplices of a boundary cell.
+TEST(TableFile, BandWeightsAndBoundsAreWhatTheTableHolds) {
+  for (Mode mode : {Mode::reflectance, Mode::emission}) {
+    SCOPED_TRACE(std::string(to_string(mode)));
+    const Made& m = made(mode);
+    const Opened o(m.bytes);
+    const spz_file_header& h = o.h;
+    ASSERT_EQ(h.sections[SPZ_SECTION_BAND_WEIGHTS].count, 3u * 81);
+    const double* w = o.section<double>(SPZ_SECTION_BAND_WEIGHTS);
+    const test::Reference ref = test::reference_of(m.sp);
+    for (std::size_t k = 0; k < 81; ++k) {
+      std::vector<double> unit(81, 0.0);
+      unit[k] = 1;
+      const Xyz want = test::integrate(m.sp, ref, unit);
+      const double scale = std::max({std::abs(want.X), std::abs(want.Y), std::abs(want.Z)});
+      EXPECT_NEAR(w[3 * k], want.X, 1e-9 * scale + 1e-15) << k;
+      EXPECT_NEAR(w[3 * k + 1], want.Y, 1e-9 * scale + 1e-15) << k;
+      EXPECT_NEAR(w[3 * k + 2], want.Z, 1e-9 * scale + 1e-15) << k;
+    }
+    double largest = 0;
+    const float* spectra = o.section<float>(SPZ_SECTION_SPECTRA);
+    for (std::uint64_t k = 0; k < h.sections[SPZ_SECTION_SPECTRA].count; ++k)
+      largest = std::max(largest, static_cast<double>(spectra[k]));
+    const float* values = o.section<float>(SPZ_SECTION_BOUNDARY_VALUES);
+    for (std::uint64_t k = 0; k < h.sections[SPZ_SECTION_BOUNDARY_VALUES].count; ++k)
+      largest = std::max(largest, static_cast<double>(values[k]));
+    const std::uint32_t* masks = o.section<std::uint32_t>(SPZ_SECTION_BOUNDARY_MASKS);
+    for (std::uint64_t k = 0; k < h.sections[SPZ_SECTION_BOUNDARY_MASKS].count; ++k)
+      if (masks[k]) largest = std::max(largest, 1.0);
+    EXPECT_EQ(h.sample_bound, largest);
+    if (mode == Mode::reflectance) {
+      EXPECT_LE(h.sample_bound, 1.0);
+    }
+    std::size_t most = 0;
+    for (std::size_t c = 0; c < m.table.cell_count(); ++c) {
+      const ExactTable::BoundaryCell* data = nullptr;
+      if (m.table.cell(c, &data) == ExactTable::CellKind::boundary)
+        most = std::max(most, data->simplices.size());
+    }
+    EXPECT_EQ(h.max_cell_simplices, most);
+    EXPECT_GT(most, 0u);
+  }
+}
+
 TEST(TableFile, NamesTooLongForTheHeaderAreRefusedNamingThem) {
   const Made& m = made(Mode::emission);
-  const std::string longest(127, 'c');  // 128 bytes with its NUL: the field's size
+  const std::string longest(103, 'c');  // 104 bytes with its NUL: the field's size
   const std::string bytes = encode_table_file(m.table, m.sp, {longest, std::string(31, 'i')});
   const Opened o(bytes);
   EXPECT_EQ(field(o.h.colorspace, sizeof o.h.colorspace), longest);
   EXPECT_EQ(field(o.h.interop_id, sizeof o.h.interop_id), std::string(31, 'i'));
   auto long_name = [&] { (void)encode_table_file(m.table, m.sp, {longest + "c", ""}); };
-  test::expect_error_mentioning(long_name, {"colour space", longest.substr(0, 40), "127 bytes"},
-                                "128-byte colour space");
+  test::expect_error_mentioning(long_name, {"colour space", longest.substr(0, 40), "103 bytes"},
+                                "104-byte colour space");
   auto long_id = [&] { (void)encode_table_file(m.table, m.sp, {"sRGB", std::string(32, 'i')}); };
   test::expect_error_mentioning(long_id, {"interop ID", std::string(20, 'i'), "31 bytes"},
                                 "32-byte interop ID");
