@@ -145,9 +145,10 @@ std::string probe_write(const std::string& format, const std::string& extension)
   ::close(fd);
   std::string why;
   auto out = OIIO::ImageOutput::create(format);
-  // Room for four channels a row beyond the image: OIIO 2.4's HEIF writer copies each 3-channel
-  // row as if it had four (AddressSanitizer saw it read past a tight buffer).
-  const std::vector<unsigned char> px(8 * 8 * 4 + 8 * 4, 0);
+  // Room beyond the image: OIIO 2.4's HEIF writer copies each row with libheif's row stride
+  // (aligned, 192 bytes for these 24-byte rows), reading past the last row of a tight buffer
+  // (AddressSanitizer saw it).
+  const std::vector<unsigned char> px(8 * 8 * 3 + 4096, 0);
   if (!out || !out->open(path, OIIO::ImageSpec(8, 8, 3, OIIO::TypeUInt8)) ||
       !out->write_image(OIIO::TypeUInt8, px.data()) || !out->close()) {
     why = out ? out->geterror() : OIIO::geterror();

@@ -172,9 +172,12 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   int sub = 1;
   std::vector<float> inbuf(width * strip * nch);
   std::vector<float> scratch(narrow ? width * max_sub * out_nch : 0);
+  // Room after the strip: OIIO 2.4's HEIF writer copies each row with libheif's aligned row
+  // stride, reading past a strip's last row (imagefile/output_formats.cpp's probe met it).
+  constexpr std::size_t kWriterSlack = 4096;
   std::vector<unsigned char> outbufs[2] = {
-      std::vector<unsigned char>(width * strip * out_nch * sample),
-      std::vector<unsigned char>(width * strip * out_nch * sample)};
+      std::vector<unsigned char>(width * strip * out_nch * sample + kWriterSlack),
+      std::vector<unsigned char>(width * strip * out_nch * sample + kWriterSlack)};
   std::future<void> writing;  // the previous strip's write, overlapping this strip's work
   double t_convert = 0, t_write = 0;
   for (int y0 = 0, k = 0; y0 < spec.height; y0 += strip, ++k) {
