@@ -44,3 +44,19 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/spectralizeConfigVersion.
 install(FILES ${PROJECT_BINARY_DIR}/spectralizeConfig.cmake
         ${PROJECT_BINARY_DIR}/spectralizeConfigVersion.cmake
         DESTINATION ${SPECTRALIZE_INSTALL_CMAKEDIR})
+
+# The compiled C library of spectralize::rt (libspectralize_rt.so.N with N the table format's
+# version, and libspectralize_rt.a), its CMake targets spectralize::rt_c and
+# spectralize::rt_c_static, and pkg-config's spectralize-rt.pc, found relative to itself.
+install(TARGETS spectralize_rt_c spectralize_rt_c_static EXPORT spectralizeTargets
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+string(REGEX MATCHALL "[^/]+" _libdir_parts "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
+set(SPECTRALIZE_PC_TO_PREFIX "")
+foreach(_part IN LISTS _libdir_parts)
+  string(APPEND SPECTRALIZE_PC_TO_PREFIX "../")
+endforeach()
+string(REGEX REPLACE "/$" "" SPECTRALIZE_PC_TO_PREFIX "${SPECTRALIZE_PC_TO_PREFIX}")
+configure_file(${PROJECT_SOURCE_DIR}/cmake/spectralize-rt.pc.in
+               ${PROJECT_BINARY_DIR}/spectralize-rt.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/spectralize-rt.pc
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

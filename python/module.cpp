@@ -31,6 +31,7 @@
 #include "py_arrays.h"
 #include "py_interrupt.h"
 #include "py_options.h"
+#include "py_rt.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectrum_model.h"
 #include "spectralize/version.h"
@@ -456,6 +457,7 @@ Functions:
                                              an image file to a spectral OpenEXR, or back
     ingest(sources, output, **options)       a texture library to spectral OpenEXR files
     table(output, **options)                 a render-time table (.spztab) of a colour space
+    rt.Table(path).spectra(rgb)              a table's spectra of RGB colours, at table speed
     models()                                 the spectrum models
 
 Options are the command-line tool's, named by their recipe keys (--emission-basis is
@@ -540,6 +542,7 @@ PYBIND11_MODULE(spectralize, m) {
          "Options:\n" +
          options_doc(kTableScope))
             .c_str());
+  add_rt_module(m);
   m.def("models", &models,
         "models() -> list of dicts (name, summary, default): the spectrum models for model=.");
 }

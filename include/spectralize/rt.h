@@ -34,6 +34,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The compiled library (libspectralize_rt) exports these functions and nothing else; built
+ * into a program from the header, they keep the program's own visibility. */
+#if defined(SPECTRALIZE_RT_EXPORTS) && defined(__GNUC__)
+#define SPZ_API __attribute__((visibility("default")))
+#else
+#define SPZ_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -67,46 +75,67 @@ enum {
  * Returns NULL and a message naming the file, the field and the reason in `error` (if not
  * NULL) for anything unusable; a table of an older format version is to be made again with
  * `spectralize table`. Cost: reading the file, O(file size). */
-spz_table* spz_table_load(const char* path, char* error, size_t error_size);
+SPZ_API spz_table* spz_table_load(const char* path, char* error, size_t error_size);
 
 /* Frees a table (NULL is allowed). */
-void spz_table_free(spz_table* table);
+SPZ_API void spz_table_free(spz_table* table);
 
 /* The spectrum of a linear RGB colour of the table's colour space (a NULL table gives the zero
  * spectrum and SPZ_INVALID). Cost: O(1): a cell lookup and four weights; cells on the gamut's
  * boundary test their simplices (at most max_cell_simplices); a colour outside the gamut is
  * mapped first (O(planes), a few thousand). */
-int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out);
+SPZ_API int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out);
 
 /* The spectrum's value at lambda_nm (0 outside the table's wavelengths). Cost: O(1). */
-float spz_eval(const spz_spectrum* s, float lambda_nm);
+SPZ_API float spz_eval(const spz_spectrum* s, float lambda_nm);
 
 /* The values at four wavelengths (e.g. a path's hero wavelengths). Cost: O(1). */
-void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]);
+SPZ_API void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]);
 
 /* All samples of the spectrum, spz_table_bands() floats into out. Cost: O(bands). */
-void spz_samples(const spz_spectrum* s, float* out);
+SPZ_API void spz_samples(const spz_spectrum* s, float* out);
 
 /* The samples of the spectrum into out, which holds `capacity` floats: returns the spectrum's
  * band count, and writes its samples only when that is <= capacity (a consumer sized for 81
  * bands is not overrun by a 1 nm table). The zero spectrum of no table writes `capacity` zeros
  * and returns 0. Cost: O(bands). */
-size_t spz_samples_n(const spz_spectrum* s, float* out, size_t capacity);
+SPZ_API size_t spz_samples_n(const spz_spectrum* s, float* out, size_t capacity);
 
 /* The spectrum's band count (0 for the zero spectrum of no table). Cost: O(1). */
-size_t spz_spectrum_bands(const spz_spectrum* s);
+SPZ_API size_t spz_spectrum_bands(const spz_spectrum* s);
 
-/* Samples per spectrum, and their wavelengths: start + i * step nm. Cost: O(1). */
-size_t spz_table_bands(const spz_table* table);
-void spz_table_wavelengths(const spz_table* table, float* start_nm, float* step_nm);
+/* The spectrum's largest sample: a bound of its value at every wavelength (pbrt's MaxValue(),
+ * light bounds, a medium's majorant), without keeping the table beside it. Cost: O(bands). */
+SPZ_API float spz_spectrum_max(const spz_spectrum* s);
 
-/* 0 emission (lights), 1 reflectance (surfaces). Cost: O(1). */
-int spz_table_mode(const spz_table* table);
+/* The spectra of n colours (rgb: 3n floats, linear RGB of the table's space) into out, n rows:
+ * at the m wavelengths of lambda_nm, or, when lambda_nm is NULL, at the table's own bands
+ * (spz_table_bands() floats a row; m is ignored). statuses (n ints) and counts (exact,
+ * mapped, invalid, negative) may be NULL. Returns the row length. Thread-safe: threads may
+ * fill disjoint rows of one array (bakers, GPU uploads). Cost: n fetches and n * row
+ * evaluations. */
+SPZ_API size_t spz_fetch_array(const spz_table* table, const float* rgb, size_t n,
+                               const float* lambda_nm, size_t m, float* out, int* statuses,
+                               size_t counts[4]);
 
-/* The OCIO colour space the table's RGB belongs to, and its RGB -> CIE XYZ (D65) matrix
- * (row-major). Cost: O(1). */
-const char* spz_table_colorspace(const spz_table* table);
-void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]);
+/* Samples per spectrum, and their wavelengths: start + i * step nm (0 for a NULL table).
+ * Cost: O(1). */
+SPZ_API size_t spz_table_bands(const spz_table* table);
+SPZ_API void spz_table_wavelengths(const spz_table* table, float* start_nm, float* step_nm);
+
+/* 0 emission (lights), 1 reflectance (surfaces), -1 a NULL table. Cost: O(1). */
+SPZ_API int spz_table_mode(const spz_table* table);
+
+/* The OCIO colour space the table's RGB belongs to ("" for NULL), and its RGB -> CIE XYZ (D65)
+ * matrix (row-major). Cost: O(1). */
+SPZ_API const char* spz_table_colorspace(const spz_table* table);
+SPZ_API void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]);
+
+/* RGB -> the XYZ the spectra reproduce exactly (row-major), under the table's observer and
+ * illuminant, in the table's units (a reflectance's Y relative to rho == 1 on its grid): the
+ * colour space's matrix white balanced to the illuminant, or, for a table made with
+ * `spectralize table --rgb-to-xyz` on 360:830, the renderer's own matrix. Cost: O(1). */
+SPZ_API void spz_table_rgb_to_target(const spz_table* table, double matrix[9]);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -31,6 +31,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <new>
 #include <string>
@@ -315,12 +316,12 @@ class Table {
 
  private:
   static const TableView& empty() noexcept {
-    static const TableView none;
+    static constexpr TableView none{};  // constant-initialised: no guard, no runtime library
     return none;
   }
   void release() noexcept {
     if (view_) view_->~TableView();
-    if (block_) ::operator delete(block_, std::align_val_t(64));
+    std::free(block_);
     block_ = nullptr, view_ = nullptr;
   }
   unsigned char* block_ = nullptr;  // the view, then the file's bytes at kBytesAt
@@ -498,10 +499,34 @@ inline std::size_t samples(const Spectrum& s, float* out, std::size_t capacity) 
   return n;
 }
 
+/// The largest sample of the spectrum (0 for the zero spectrum): an upper bound of its values
+/// at any wavelength (pbrt's MaxValue(), a medium's majorant). Cost: O(bands).
+inline float max_value(const Spectrum& s) noexcept {
+  if (!s.table) return 0.0f;
+  const TableView& t = *static_cast<const TableView*>(s.table);
+  float most = 0;
+  for (std::uint32_t k = 0; k < t.bands_; ++k) {
+    float acc = 0;
+    for (int v = 0; v < 4; ++v) acc += s.weight[v] * detail::vertex_value(t, s.vertex[v], k);
+    most = std::max(most, acc);
+  }
+  most *= s.scale;
+  return (s.flags & 2u) ? std::min(most, 1.0f) : most;
+}
+
 /// The number of samples of the spectrum (0 for the zero spectrum of no table). Cost: O(1).
 inline std::size_t bands(const Spectrum& s) noexcept {
   return s.table ? static_cast<const TableView*>(s.table)->bands() : 0;
 }
+
+/// The spectra of n colours (rgb: 3n floats) into out, row by row: at the m wavelengths of
+/// lambda_nm, or (lambda_nm null) at the table's own bands. Statuses per colour (if not null)
+/// and their counts (if not null: exact, mapped, invalid, negative). Returns the row length (m
+/// or bands()). Thread-safe: threads may fill disjoint rows. Cost: n fetches and n * row
+/// evaluations.
+inline std::size_t fetch_array(const TableView& t, const float* rgb, std::size_t n,
+                               const float* lambda_nm, std::size_t m, float* out, int* statuses,
+                               std::size_t counts[4]) noexcept;
 
 // --- TableView ---
 
@@ -1468,6 +1493,28 @@ inline int TableView::map_into_gamut(const double rgb[3], double mapped[3]) cons
   return status;
 }
 
+inline std::size_t fetch_array(const TableView& t, const float* rgb, std::size_t n,
+                               const float* lambda_nm, std::size_t m, float* out, int* statuses,
+                               std::size_t counts[4]) noexcept {
+  const std::size_t row = lambda_nm ? m : t.bands();
+  if (counts) counts[0] = counts[1] = counts[2] = counts[3] = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    Spectrum s{};
+    const int status = t.fetch(rgb + 3 * i, s);
+    if (statuses) statuses[i] = status;
+    if (counts) ++counts[status >= 0 ? status : status == SPZ_INVALID ? 2 : 3];
+    float* o = out + i * row;
+    if (!lambda_nm) {
+      samples(s, o);
+      continue;
+    }
+    std::size_t k = 0;
+    for (; k + 4 <= m; k += 4) eval4(s, lambda_nm + k, o + k);
+    for (; k < m; ++k) o[k] = eval(s, lambda_nm[k]);
+  }
+  return row;
+}
+
 // --- Table ---
 
 inline bool Table::load(const char* path, char* error, std::size_t error_size) noexcept {
@@ -1510,8 +1557,8 @@ inline bool Table::load(const char* path, char* error, std::size_t error_size) n
     return fail(reason);
   constexpr std::size_t kMax = std::size_t{1} << 30;
   if (size > kMax) return fail("larger than 1 GiB: not a table this evaluator loads");
-  block_ = static_cast<unsigned char*>(
-      ::operator new(kBytesAt + size, std::align_val_t(64), std::nothrow));
+  // C's aligned_alloc (a multiple of the alignment): the C library needs nothing but libc.
+  block_ = static_cast<unsigned char*>(std::aligned_alloc(64, (kBytesAt + size + 63) / 64 * 64));
   if (!block_) return fail("out of memory");
   unsigned char* data = block_ + kBytesAt;
   std::memcpy(data, head, SPZ_HEADER_SIZE);
@@ -1548,20 +1595,25 @@ struct spz_table {
 extern "C" {
 
 spz_table* spz_table_load(const char* path, char* error, size_t error_size) {
-  spz_table* t = new (std::nothrow) spz_table;
+  // malloc and placement new: the compiled C library needs nothing of the C++ runtime.
+  void* memory = std::malloc(sizeof(spz_table));
+  spz_table* t = memory ? new (memory) spz_table : nullptr;
   if (!t) {
     spz::detail::say(error, error_size, "%s: out of memory", path ? path : "(null)");
     return nullptr;
   }
   if (!t->table.load(path, error, error_size)) {
-    delete t;
+    t->~spz_table();
+    std::free(t);
     return nullptr;
   }
   return t;
 }
 
 void spz_table_free(spz_table* table) {
-  delete table;
+  if (!table) return;
+  table->~spz_table();
+  std::free(table);
 }
 
 int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out) {
@@ -1592,25 +1644,40 @@ size_t spz_spectrum_bands(const spz_spectrum* s) {
   return spz::bands(*s);
 }
 
+float spz_spectrum_max(const spz_spectrum* s) {
+  return spz::max_value(*s);
+}
+
+size_t spz_fetch_array(const spz_table* table, const float* rgb, size_t n, const float* lambda_nm,
+                       size_t m, float* out, int* statuses, size_t counts[4]) {
+  static constexpr spz::TableView none{};
+  return spz::fetch_array(table ? table->table.view() : none, rgb, n, lambda_nm, m, out, statuses,
+                          counts);
+}
+
 size_t spz_table_bands(const spz_table* table) {
-  return table->table.view().bands();
+  return table ? table->table.view().bands() : 0;
 }
 
 void spz_table_wavelengths(const spz_table* table, float* start_nm, float* step_nm) {
-  if (start_nm) *start_nm = table->table.view().lambda_start();
-  if (step_nm) *step_nm = table->table.view().lambda_step();
+  if (start_nm) *start_nm = table ? table->table.view().lambda_start() : 0.0f;
+  if (step_nm) *step_nm = table ? table->table.view().lambda_step() : 0.0f;
 }
 
 int spz_table_mode(const spz_table* table) {
-  return table->table.view().reflectance() ? 1 : 0;
+  return !table ? -1 : table->table.view().reflectance() ? 1 : 0;
 }
 
 const char* spz_table_colorspace(const spz_table* table) {
-  return table->table.view().header().colorspace;
+  return table ? table->table.view().header().colorspace : "";
 }
 
 void spz_table_rgb_to_xyz(const spz_table* table, double matrix[9]) {
-  for (int k = 0; k < 9; ++k) matrix[k] = table->table.view().header().rgb_to_xyz[k];
+  for (int k = 0; k < 9; ++k) matrix[k] = table ? table->table.view().header().rgb_to_xyz[k] : 0;
+}
+
+void spz_table_rgb_to_target(const spz_table* table, double matrix[9]) {
+  for (int k = 0; k < 9; ++k) matrix[k] = table ? table->table.view().header().rgb_to_target[k] : 0;
 }
 
 }  // extern "C"

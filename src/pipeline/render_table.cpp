@@ -1,12 +1,14 @@
 #include "pipeline/render_table.h"
 
 #include <OpenImageIO/parallel.h>
+#include <fmt/core.h>
 
 #include <array>
 #include <chrono>
 #include <filesystem>
 
 #include "classify/input_interpretation.h"
+#include "core/renderer_frame.h"
 #include "core/table_file.h"
 #include "imagefile/safe_output.h"
 #include "pipeline/job_plan.h"
@@ -33,6 +35,24 @@ Mat3 table_frame(const ColourSpaces& spaces, std::string_view space) {
   }
   if (!m || !(relative_error(mul(*m, Xyz{1, 1, 1}), kWhiteD65) <= 1e-3)) return kRec709Frame;
   return *m;
+}
+
+Mat3 renderer_matrix(const Settings& s) {
+  return RendererMatrix::parse(s.rgb_to_xyz).resolve(Observer::get(s.spectral.observer));
+}
+
+double renderer_units(const Spectralizer& sp) {
+  const Illuminant* il = sp.illuminant();
+  if (!il) return 1.0;  // emission: Y relative to K over 360-830 nm already
+  double full = 0;
+  for (std::size_t k = 0; k < ReferenceTable::kSize; ++k)
+    full += ReferenceTable::trapezoid(k) * il->spd[k] * sp.observer().cmf[1][k];
+  return full / sp.weights().normalisation();
+}
+
+std::array<double, 2> chromaticity_of_column(const Mat3& m, int c) {
+  const double sum = m[c] + m[3 + c] + m[6 + c];
+  return {m[c] / sum, m[3 + c] / sum};
 }
 
 bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& m) {
@@ -75,6 +95,21 @@ JobPlan plan_table(Settings settings, const std::string& output, const OptionNam
                      ? std::string(": give a linear space of this config")
                      : ": use " + quote(linear) + ", the linear space with its primaries"));
   }
+  if (!s.rgb_to_xyz.empty()) {
+    // A renderer's matrix is for the space the table is named after: the same primaries (the
+    // white may differ by the renderer's illuminant data, the primaries' chromaticities not).
+    const Mat3 r = renderer_matrix(s);
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const auto mine = chromaticity_of_column(*m, c), given = chromaticity_of_column(r, c);
+      worst = std::max({worst, std::abs(mine[0] - given[0]), std::abs(mine[1] - given[1])});
+    }
+    if (!(worst <= kPrimariesTolerance))
+      throw Error(names("rgb_to_xyz") + " '" + clip(s.rgb_to_xyz) +
+                  "': its primaries are not those of " + quote(s.colorspace) +
+                  " (a chromaticity differs by " + fmt::format("{:.3g}", worst) +
+                  "); name the space it is for with " + names("colorspace"));
+  }
   return plan;
 }
 
@@ -85,7 +120,18 @@ RenderTable make_render_table(const JobPlan& plan, const LogFn& log) {
   const std::optional<Mat3> m = primaries_matrix(spaces, s.colorspace);
   if (!m) throw Error("colour space " + quote(s.colorspace) + " has no RGB -> XYZ matrix");
   const Spectralizer sp(s.spectral);
-  ExactTable table(sp, *m);
+  Mat3 frame = *m;
+  if (!s.rgb_to_xyz.empty()) {
+    // The spectra reproduce the renderer's XYZ itself: the frame is its matrix with the
+    // white balance of the mode (docs/DESIGN.md §3), which ExactTable applies, undone, in the
+    // table's units (a reflectance's Y relative to rho == 1 on the grid, a renderer's to the
+    // illuminant's Y over 360-830 nm; the same on a 360:830 grid).
+    const Xyz balance = sp.target_of(Xyz{1, 1, 1});
+    const double units = renderer_units(sp);
+    frame = scale_rows(Xyz{units / balance.X, units / balance.Y, units / balance.Z},
+                       renderer_matrix(s));
+  }
+  ExactTable table(sp, frame);
   log(1, "table for '" + s.colorspace + "' (" + std::string(to_string(s.spectral.mode)) +
              "): " + table.layout());
   table.build([&](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {

@@ -4,6 +4,7 @@
 // space (its RGB -> XYZ matrix measured through OCIO) and write it as a .spztab file, which
 // renderers read with <spectralize/rt.h>.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -32,6 +33,22 @@ Mat3 table_frame(const ColourSpaces& spaces, std::string_view space);
 /// True when the space's conversion to XYZ is that matrix (linear RGB, no curve), tested on
 /// colours inside and outside [0, 1]. Cost: an OCIO processor.
 bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& matrix);
+
+/// A renderer's matrix (`--rgb-to-xyz`, core/renderer_frame.h) resolved under the settings'
+/// observer. Throws Error for an unknown illuminant. Cost: O(reference table).
+Mat3 renderer_matrix(const Settings& settings);
+
+/// A renderer's XYZ in the table's units: 1 for lights; for reflectances the illuminant's Y
+/// over 360-830 nm (a renderer's normalisation) over that of rho == 1 on the grid (the
+/// table's, docs/DESIGN.md §3): 1 on a 360:830 grid. Cost: O(reference table).
+double renderer_units(const Spectralizer& sp);
+
+/// The CIE xy chromaticity of column `c` of an RGB -> XYZ matrix: that primary's. Cost: O(1).
+std::array<double, 2> chromaticity_of_column(const Mat3& m, int c);
+
+/// The largest difference of a primary's x or y between a renderer's matrix and the space
+/// the table is named after: 1e-3 holds every published rounding of a space's primaries.
+inline constexpr double kPrimariesTolerance = 1e-3;
 
 /// Table settings: an output named .spztab, the config loads, the colour space (default: the
 /// config's scene_linear role) exists and is linear RGB (an encoded or log space is refused,

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/renderer_frame.h"
 #include "imagefile/output_formats.h"
 #include "settings/map_kind.h"
 #include "spectralize/core/colorimetry.h"
@@ -168,6 +169,17 @@ std::vector<SettingSpec> make_schema() {
        [](Settings& v, std::string_view t) { v.spectral.emission_basis = parse_emission_basis(t); },
        [](const Settings& v) { return v.spectral.emission_basis; },
        [](const Settings& v) { return v.spectral.mode == Mode::emission; }});
+  s.push_back(
+      {"rgb_to_xyz", "--rgb-to-xyz", "MATRIX", "",
+       "Table: a renderer's own RGB -> XYZ, which the spectra then reproduce exactly "
+       "under the table's observer and illuminant (no D65 white balance): nine numbers "
+       "m00,m01,...,m22 (row-major), or the primaries and the illuminant of the white, "
+       "xr,yr,xg,yg,xb,yb,NAME (as pbrt-v4 builds its colour spaces)",
+       kTable, true, false,
+       [](Settings& v, std::string_view t) { v.rgb_to_xyz = RendererMatrix::parse(t).to_string(); },
+       [](const Settings& v) { return v.rgb_to_xyz; },
+       [](const Settings& v) { return !v.rgb_to_xyz.empty(); },
+       "the colour space's, white balanced (docs/DESIGN.md section 3)"});
   s.push_back({"format", "--format", "FORMAT", "",
                "Samples of the written file: half (max 65504; larger samples are clamped and "
                "counted) or float; --to-rgb into PNG, JPEG, TIFF, ...: uint8 or uint16",

@@ -58,9 +58,10 @@ struct Settings {
   std::string display, view;            // --to-rgb: an OCIO display and view instead of a space
   PlotScale plot_scale = PlotScale::linear;
   SpectralTable::Method method = SpectralTable::Method::table;
-  std::string cache_dir;  // "" : no persistent node cache
-  int threads = 0;        // 0: all cores
-  std::string config;     // OCIO config file ("" : $OCIO, else the shipped one)
+  std::string cache_dir;   // "" : no persistent node cache
+  int threads = 0;         // 0: all cores
+  std::string config;      // OCIO config file ("" : $OCIO, else the shipped one)
+  std::string rgb_to_xyz;  // table: a renderer's RGB -> XYZ, canonical (core/renderer_frame.h)
   // Edits of the name table (settings/map_kind.h), canonical: "" (the table), a replacing list
   // ("normal,rough") or signed words ("+msk,-metal"; colour words may end in ":emission").
   std::string data_names, colour_names;

@@ -22,6 +22,7 @@
 #include "core/paper_solver.h"
 #include "core/spectral_table.h"
 #include "core/table_file.h"
+#include "rgb2spec_c.h"
 #include "spectralize/core/spectralizer.h"
 
 using namespace spectralize;
@@ -228,6 +229,48 @@ void BM_SigmoidTableFetch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
 }
 
+// The same table as renderers run it: the original rgb2spec's fetch and 4 x eval_precise in
+// plain C at -O3 (rgb2spec_c.c), from the same 64^3 coefficients and the same pixels and
+// wavelengths: the baseline's speed as published, not as this C++ port's.
+void BM_Rgb2specC(benchmark::State& state) {
+  static const baseline::SigmoidFitter fitter(bench::kRec709ToXyz);
+  static const baseline::SigmoidTable table(fitter, 64, 2);
+  static const std::vector<float> scale = [] {
+    std::vector<float> s(64);
+    for (int k = 0; k < 64; ++k) s[k] = table.z_node(k);
+    return s;
+  }();
+  static const std::vector<float> data = [] {
+    std::vector<float> d;
+    for (int m = 0; m < 3; ++m)
+      for (int k = 0; k < 64; ++k)
+        for (int j = 0; j < 64; ++j)
+          for (int i = 0; i < 64; ++i) {
+            const baseline::SigmoidPolynomial c = table.node(m, k, j, i);
+            d.insert(d.end(), {c.c0, c.c1, c.c2});
+          }
+    return d;
+  }();
+  const rgb2spec_c model{64, scale.data(), data.data()};
+  const auto pixels = benchmark_pixels(state.range(0));
+  std::vector<float> nm(pixels.size() * 4);
+  std::uint32_t seed = 777;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
+    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
+  }
+  std::vector<float> out(pixels.size() * 4);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      float c[3];
+      rgb2spec_c_fetch(&model, pixels[i].data(), c);
+      for (int j = 0; j < 4; ++j) out[4 * i + j] = rgb2spec_c_eval_precise(c, nm[4 * i + j]);
+    }
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
+}
+
 // The render-time table (include/spectralize/rt.hpp) of linear sRGB reflectances, as
 // `spectralize table` makes it (built before timing, read from memory by the evaluator).
 const spz::TableView& srgb_table() {
@@ -314,6 +357,7 @@ BENCHMARK(BM_SpzFetch)
     ->Args({1, 81})
     ->Args({0, 81})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Rgb2specC)->ArgNames({"image"})->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpzSpectraArray)->Threads(1)->Threads(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SigmoidTableFetch)
     ->ArgNames({"image", "bands"})

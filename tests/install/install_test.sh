@@ -24,6 +24,7 @@ for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
          share/spectralize/farm/spectralize-ingest.sbatch include/spectralize/version.h \
          include/spectralize/core/spectralizer.h lib/libspectralize_core.a \
          include/spectralize/rt.h include/spectralize/rt.hpp include/spectralize/rt_format.h \
+         lib/libspectralize_rt.a lib/libspectralize_rt.so lib/pkgconfig/spectralize-rt.pc \
          lib/cmake/spectralize/spectralizeConfig.cmake \
          lib/cmake/spectralize/spectralizeConfigVersion.cmake \
          share/doc/spectralize/spectralize-help.txt \
@@ -32,6 +33,26 @@ for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
 done
 grep -q -- "--wavelengths" "$prefix/share/doc/spectralize/spectralize-help.txt" ||
   fail "the installed help text does not list the flags"
+# The C library: its SONAME is the table format's version; it needs nothing but libc and libm
+# and exports nothing but the C API.
+so_name="$(readelf -d "$prefix/lib/libspectralize_rt.so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')"
+[ "$so_name" = "libspectralize_rt.so.$(sed -n 's/#define SPZ_FORMAT_VERSION \([0-9]*\)u/\1/p' \
+  "$prefix/include/spectralize/rt_format.h")" ] || fail "libspectralize_rt's SONAME is '$so_name'"
+needed="$(readelf -d "$prefix/lib/libspectralize_rt.so" | sed -n 's/.*Shared library: \[\(.*\)\]/\1/p' |
+  grep -v -x -e 'libc.so.6' -e 'libm.so.6' || true)"
+[ -z "$needed" ] || fail "libspectralize_rt.so needs more than libc and libm: $needed"
+exported="$(nm -D --defined-only "$prefix/lib/libspectralize_rt.so" | awk '{print $3}' | grep -v '^spz_' |
+  grep -v -e '^SPECTRALIZE_RT_' || true)"
+[ -z "$exported" ] || fail "libspectralize_rt.so exports more than spz_: $exported"
+for symbol in spz_table_load spz_fetch spz_eval4 spz_fetch_array spz_samples_n spz_spectrum_max; do
+  nm -D --defined-only "$prefix/lib/libspectralize_rt.so" | grep -q " $symbol@" ||
+    fail "libspectralize_rt.so does not export $symbol"
+done
+if nm "$prefix/lib/libspectralize_rt.a" | grep -q -e ' U _Z' -e ' U __cxa' -e ' U __gxx'; then
+  fail "libspectralize_rt.a needs the C++ runtime"
+fi
+echo "libspectralize_rt: $so_name, needs only libc and libm, exports only spz_*"
+
 if hits="$(grep -rl --binary-files=text -e "$build" -e "$source" "$prefix")"; then
   fail "installed files name the build or source tree: $hits"
 fi
@@ -40,6 +61,7 @@ fi
 cp "$source/testimages/hdri_forest_256x128.exr" "$work/in.exr"
 cp -r "$source/tests/install/consumer" "$work/consumer"
 cp -r "$source/tests/install/rt_consumer" "$work/rt_consumer"
+cp -r "$source/tests/install/rt_c_consumer" "$work/rt_c_consumer"
 printf '{"source": "in.exr", "wavelengths": "400:700:10"}\n' >"$work/r.spectral"
 
 cat >"$work/checks.sh" <<CHECKS
@@ -80,6 +102,26 @@ rt_consumer_links="\$(ldd rt-consumer-build/rt_consumer | grep -c spectralize ||
 [ "\$rt_consumer_links" = 0 ] || { echo "FAILED: rt_consumer links a spectralize library"; exit 1; }
 rt-consumer-build/rt_consumer srgb.spztab "$prefix/share/spectralize/data/cie1931_2deg_cmf_1nm.csv" \
   "$prefix/share/spectralize/data/cie_illuminant_d65_1nm.csv"
+# A C renderer (a C compiler only) against the C library: by CMake, shared and static; by
+# pkg-config; and Python's ctypes loading the shared library.
+data="$prefix/share/spectralize/data"
+for kind in OFF ON; do
+  cmake -S rt_c_consumer -B "rt-c-\$kind" -DSTATIC=\$kind -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+  cmake --build "rt-c-\$kind" >/dev/null
+  LD_LIBRARY_PATH="$prefix/lib" "rt-c-\$kind/rt_c_consumer" srgb.spztab \
+    "\$data/cie1931_2deg_cmf_1nm.csv" "\$data/cie_illuminant_d65_1nm.csv"
+  links="\$(LD_LIBRARY_PATH="$prefix/lib" ldd "rt-c-\$kind/rt_c_consumer" | grep -c libspectralize_rt.so || true)"
+  [ "\$links" = "\$([ \$kind = OFF ] && echo 1 || echo 0)" ] ||
+    { echo "FAILED: the \$kind consumer links libspectralize_rt.so \$links times"; exit 1; }
+done
+export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
+cc -std=c99 rt_c_consumer/main.c -o rt-c-pc \$(pkg-config --cflags --libs spectralize-rt)
+LD_LIBRARY_PATH="$prefix/lib" ./rt-c-pc srgb.spztab "\$data/cie1931_2deg_cmf_1nm.csv" \
+  "\$data/cie_illuminant_d65_1nm.csv"
+cc -std=c99 rt_c_consumer/main.c -o rt-c-pc-static \
+  \$(pkg-config --cflags spectralize-rt) "$prefix/lib/libspectralize_rt.a" \$(pkg-config --libs-only-l --static spectralize-rt | sed 's/-lspectralize_rt//')
+./rt-c-pc-static srgb.spztab "\$data/cie1931_2deg_cmf_1nm.csv" "\$data/cie_illuminant_d65_1nm.csv"
+/usr/bin/python3 rt_c_consumer/rt_ctypes.py "$prefix/lib/libspectralize_rt.so" srgb.spztab
 echo "all installed checks passed"
 CHECKS
 

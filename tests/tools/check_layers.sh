@@ -15,6 +15,7 @@ declare -A allowed=(
   [ingest]="spectralize core text imagefile colour settings classify pipeline"
   [plot]="spectralize core text imagefile colour settings"
   [baseline]="spectralize core"
+  [rt_c]="spectralize"
 )
 bad=0
 for dir in "${!allowed[@]}"; do

@@ -11,6 +11,7 @@
 
 #include "pipeline/render_table.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <spectralize/rt.hpp>
@@ -249,6 +250,104 @@ TEST(RenderTable, ATablesSpectraReadBackIntegrateToTheirColours) {
     const Xyz want{lin.X * w.X / d65w.X, lin.Y * w.Y / d65w.Y, lin.Z * w.Z / d65w.Z};
     EXPECT_LT(test::rel_err(test::reference_xyz(grid, v, obs, &d65.spd), want), 1e-5);
   }
+}
+
+// A table for a renderer's conventions: its own matrix (here Rec.2020's primaries with the
+// white of illuminant A under the CIE 1931 observer, computed by the test) and illuminant A.
+// The spectra reproduce that matrix's XYZ, with a reflectance's XYZ relative to A's own Y over
+// 360-830 nm, as a renderer integrates (oracle: the test's integration of the CSV-derived
+// tables, not the library's weights).
+std::string text_of(const test::Mat3& m) {
+  std::string t;
+  for (int k = 0; k < 9; ++k) t += fmt::format("{}{:.17g}", k ? "," : "", m[k / 3][k % 3]);
+  return t;
+}
+
+spz::TableView open_view(const RenderTable& t, std::vector<std::uint64_t>& words) {
+  words.assign((t.bytes.size() + 7) / 8, 0);
+  std::memcpy(words.data(), t.bytes.data(), t.bytes.size());
+  spz::TableView view;
+  char error[256] = "";
+  EXPECT_TRUE(view.open(words.data(), t.bytes.size(), error, sizeof error)) << error;
+  return view;
+}
+
+TEST(RenderTable, ARenderersMatrixAndIlluminantAreReproducedAsTheRendererIntegrates) {
+  const Observer& obs = Observer::get("cie1931");
+  const Illuminant a = Illuminant::get("A");
+  const Xyz white = test::illuminant_xyz(obs, a);
+  const auto xy = test::chromaticity(white);
+  const test::Mat3 m = test::rgb_to_xyz(0.708, 0.292, 0.170, 0.797, 0.131, 0.046, xy[0], xy[1]);
+  // On a narrower grid a reflectance's units differ from a renderer's (rho == 1 on 400-700
+  // nm is darker than A's white): the table scales its targets, the renderer sees its XYZ.
+  const struct {
+    ModeChoice mode;
+    WavelengthGrid grid;
+  } cases[] = {{ModeChoice::reflectance, WavelengthGrid(360, 830, 10)},
+               {ModeChoice::emission, WavelengthGrid(360, 830, 10)},
+               {ModeChoice::reflectance, WavelengthGrid(400, 700, 20)}};
+  for (const auto& [mode, grid] : cases) {
+    SCOPED_TRACE((mode == ModeChoice::emission ? "emission " : "reflectance ") + grid.to_string());
+    Settings s;
+    s.colorspace = "Linear Rec.2020";
+    s.mode = mode;
+    s.threads = 2;
+    s.spectral.grid = grid;
+    s.spectral.illuminant = "A";
+    s.rgb_to_xyz = text_of(m);
+    const RenderTable t = make_render_table(plan_table(s, "r.spztab", kFlags), kQuiet);
+    std::vector<std::uint64_t> words;
+    const spz::TableView view = open_view(t, words);
+    ASSERT_TRUE(view.loaded());
+    double worst = 0;
+    for (const std::array<float, 3>& c : {std::array<float, 3>{1.0f, 1.0f, 1.0f},
+                                          {0.5f, 0.5f, 0.5f},
+                                          {0.6f, 0.3f, 0.2f},
+                                          {0.1f, 0.4f, 0.2f},
+                                          {0.02f, 0.01f, 0.3f}}) {
+      SCOPED_TRACE(::testing::PrintToString(c));
+      spz::Spectrum sp;
+      // White is rho == 1 exactly, on the solid's boundary: within rounding of it, mapped.
+      const int status = view.fetch(c.data(), sp);
+      EXPECT_TRUE(status == SPZ_EXACT || (c[0] == 1.0f && status == SPZ_MAPPED)) << status;
+      if (status != SPZ_EXACT) continue;
+      Xyz got;
+      for (int nm = 360; nm <= 830; ++nm) {
+        const std::size_t k = static_cast<std::size_t>(nm - 360);
+        const double tau = (nm == 360 || nm == 830) ? 0.5 : 1.0;
+        const double v = spz::eval(sp, static_cast<float>(nm));
+        const double e = mode == ModeChoice::reflectance ? a.spd[k] : 1.0;
+        for (int ch = 0; ch < 3; ++ch) got[ch] += tau * v * e * obs.cmf[ch][k];
+      }
+      const double norm = mode == ModeChoice::reflectance ? white.Y : test::y_integral(obs);
+      got = Xyz{got.X / norm, got.Y / norm, got.Z / norm};
+      const Xyz want = test::rgb(m, c[0], c[1], c[2]);
+      worst = std::max(worst, test::rel_err(got, want));
+    }
+    EXPECT_LT(worst, 1e-5);
+    // Without the renderer's matrix, the project's D65-balanced conventions: ~1e-2 from it
+    // under A, so the test above can tell the two apart.
+    s.rgb_to_xyz.clear();
+    if (mode == ModeChoice::reflectance && grid.size() == 48) {
+      const RenderTable plain = make_render_table(plan_table(s, "p.spztab", kFlags), kQuiet);
+      std::vector<std::uint64_t> w2;
+      const spz::TableView v2 = open_view(plain, w2);
+      double m2[9];
+      std::memcpy(m2, v2.header().rgb_to_target, sizeof m2);
+      EXPECT_GT(std::abs(m2[0] - m[0][0]), 1e-3);
+    }
+  }
+}
+
+TEST(RenderTable, ARenderersMatrixIsForTheSpaceTheTableIsNamedAfter) {
+  Settings s;
+  s.colorspace = kRec709;
+  s.rgb_to_xyz = "0.708,0.292,0.170,0.797,0.131,0.046,D65";  // Rec.2020's primaries
+  const std::string msg = message_of([&] { plan_table(s, "r.spztab", kFlags); });
+  EXPECT_NE(msg.find("--rgb-to-xyz"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not those of 'Linear Rec.709 (sRGB)'"), std::string::npos) << msg;
+  s.rgb_to_xyz = "0.64,0.33,0.3,0.6,0.15,0.06,D65";
+  EXPECT_NO_THROW(plan_table(s, "r.spztab", kFlags));
 }
 
 TEST(RenderTable, AWrittenTableIsItsBytesAndABadPathIsNamed) {

@@ -1,8 +1,10 @@
 /* The C API of spectralize::rt from a C translation unit (C99): loads a table, fetches a
  * colour and checks what a renderer relies on: the status, the bounds, eval against the
- * samples, eval4 against eval, zero outside the wavelengths, and the error message of a bad
- * path. The implementation is in rt_c_api_impl.cpp (SPECTRALIZE_RT_IMPLEMENTATION).
- * Usage: rt_c_api_test TABLE.spztab (reflectance); prints "ok" and exits 0. */
+ * samples, eval4 against eval, zero outside the wavelengths, the error message of a bad
+ * path; the array API against one fetch per colour (rows, statuses, counts), a spectrum's
+ * maximum against its samples, the zero spectrum and a NULL table. The implementation is in
+ * rt_c_api_impl.cpp (SPECTRALIZE_RT_IMPLEMENTATION). Usage: rt_c_api_test TABLE.spztab
+ * (reflectance); prints "ok" and exits 0. */
 #include <spectralize/rt.h>
 
 #include <math.h>
@@ -48,6 +50,48 @@ int main(int argc, char** argv) {
   spz_eval4(&s, lambda, values);
   for (k = 0; k < 4; ++k) CHECK(values[k] == spz_eval(&s, lambda[k]));
   CHECK(values[3] == 0.0f); /* 900 nm: outside the table's wavelengths */
+  /* The maximum is the largest sample; the zero spectrum's is 0. */
+  {
+    float most = 0;
+    spz_spectrum zero;
+    for (k = 0; k < bands; ++k) most = samples[k] > most ? samples[k] : most;
+    CHECK(spz_spectrum_max(&s) == most);
+    memset(&zero, 0, sizeof zero);
+    CHECK(spz_spectrum_max(&zero) == 0.0f && spz_spectrum_bands(&zero) == 0);
+    CHECK(spz_spectrum_bands(&s) == bands);
+  }
+  /* The array API: each row what one fetch and eval give, statuses and counts by kind. */
+  {
+    const float nan = (float)NAN;
+    const float colours[15] = {0.2f, 0.5f,  0.1f,  1.5f,  0.2f, 0.1f, nan, 0.5f,
+                               0.5f, -1.0f, -1.0f, -1.0f, 0.3f, 0.3f, 0.3f};
+    const int want[5] = {SPZ_EXACT, SPZ_MAPPED, SPZ_INVALID, SPZ_NEGATIVE, SPZ_EXACT};
+    static float rows[5 * 1024];
+    float at[5 * 4];
+    int statuses[5];
+    size_t counts[4], i;
+    CHECK(spz_fetch_array(table, colours, 5, NULL, 0, rows, statuses, counts) == bands);
+    CHECK(counts[0] == 2 && counts[1] == 1 && counts[2] == 1 && counts[3] == 1);
+    for (i = 0; i < 5; ++i) {
+      spz_spectrum one;
+      CHECK(statuses[i] == want[i]);
+      CHECK(spz_fetch(table, colours + 3 * i, &one) == want[i]);
+      spz_samples(&one, samples);
+      for (k = 0; k < bands; ++k) CHECK(rows[i * bands + k] == samples[k]);
+    }
+    CHECK(spz_fetch_array(table, colours, 5, lambda, 4, at, NULL, NULL) == 4);
+    for (i = 0; i < 5; ++i) {
+      spz_spectrum one;
+      spz_fetch(table, colours + 3 * i, &one);
+      for (k = 0; k < 4; ++k) CHECK(at[4 * i + k] == spz_eval(&one, lambda[k]));
+    }
+    /* No table: zero rows, every colour invalid. */
+    CHECK(spz_fetch_array(NULL, colours, 1, lambda, 4, at, statuses, counts) == 4);
+    CHECK(statuses[0] == SPZ_INVALID && counts[2] == 1 && at[0] == 0.0f && at[3] == 0.0f);
+  }
+  /* A NULL table answers without a crash. */
+  CHECK(spz_table_bands(NULL) == 0 && spz_table_mode(NULL) == -1);
+  CHECK(strcmp(spz_table_colorspace(NULL), "") == 0);
   spz_table_free(table);
   spz_table_free(NULL);
   if (failures) return 1;

@@ -37,6 +37,7 @@ const std::map<std::string, std::pair<std::string, std::string>> kExamples = {
     {"filter", {"0.5", "1.5"}},
     {"curvature", {"20", "-3"}},
     {"emission_basis", {"D65", "D6x"}},
+    {"rgb_to_xyz", {"0.64,0.33,0.3,0.6,0.15,0.06,D65", "1,2,3"}},
     {"format", {"float", "double"}},
     {"print_format", {"json", "xml"}},
     {"compression", {"piz", "zip:12"}},

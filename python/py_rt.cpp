@@ -1,0 +1,123 @@
+#include "py_rt.h"
+
+#include <pybind11/numpy.h>
+#include <spectralize/rt.hpp>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace spectralize::python {
+
+namespace {
+
+// A loaded table, shared by the Python object and any thread filling an array.
+class RtTable {
+ public:
+  explicit RtTable(const std::string& path) {
+    std::string error;
+    if (!table_.load(path.c_str(), &error)) {
+      PyErr_SetString(PyExc_OSError, error.c_str());
+      throw py::error_already_set();
+    }
+  }
+  const spz::TableView& view() const { return table_.view(); }
+
+  py::array_t<double> wavelengths() const {
+    const spz::TableView& t = view();
+    py::array_t<double> out(static_cast<py::ssize_t>(t.bands()));
+    for (std::size_t k = 0; k < t.bands(); ++k)
+      out.mutable_at(k) = t.header().lambda_start + t.header().lambda_step * static_cast<double>(k);
+    return out;
+  }
+
+  // The spectra of colours (..., 3) at the table's bands or at `wavelengths` (M,): (values
+  // (..., M) float32, counts dict). Without the GIL, on `threads` threads (0: all cores).
+  py::tuple spectra(const py::handle& rgb, const py::object& wavelengths, int threads) const {
+    const auto colours = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(rgb);
+    if (!colours || colours.ndim() < 1 || colours.shape(colours.ndim() - 1) != 3)
+      throw py::value_error("rt.Table.spectra(): rgb: expected an array of shape (..., 3)");
+    std::vector<float> nm;
+    if (!wavelengths.is_none()) {
+      const auto w =
+          py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(wavelengths);
+      if (!w || w.ndim() != 1 || w.size() == 0)
+        throw py::value_error("rt.Table.spectra(): wavelengths: expected a 1-D array of nm");
+      nm.assign(w.data(), w.data() + w.size());
+    }
+    const std::size_t n = static_cast<std::size_t>(colours.size() / 3);
+    const std::size_t row = nm.empty() ? view().bands() : nm.size();
+    std::vector<py::ssize_t> shape(colours.shape(), colours.shape() + colours.ndim());
+    shape.back() = static_cast<py::ssize_t>(row);
+    py::array_t<float> out(shape);
+    float* dst = out.mutable_data();
+    const float* src = colours.data();
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t workers =
+        std::min<std::size_t>(threads > 0 ? static_cast<std::size_t>(threads) : cores,
+                              std::max<std::size_t>(1, n / 4096));
+    std::vector<std::array<std::size_t, 4>> counts(workers, {0, 0, 0, 0});
+    {
+      py::gil_scoped_release release;
+      auto part = [&](std::size_t w) {
+        const std::size_t a = n * w / workers, b = n * (w + 1) / workers;
+        spz::fetch_array(view(), src + 3 * a, b - a, nm.empty() ? nullptr : nm.data(), nm.size(),
+                         dst + row * a, nullptr, counts[w].data());
+      };
+      std::vector<std::thread> pool;
+      for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(part, w);
+      part(0);
+      for (std::thread& t : pool) t.join();
+    }
+    py::dict tally;
+    const char* names[4] = {"exact", "mapped", "invalid", "negative"};
+    for (int k = 0; k < 4; ++k) {
+      std::size_t sum = 0;
+      for (const auto& c : counts) sum += c[k];
+      tally[names[k]] = sum;
+    }
+    return py::make_tuple(out, tally);
+  }
+
+ private:
+  spz::Table table_;
+};
+
+}  // namespace
+
+void add_rt_module(py::module_& m) {
+  py::module_ rt = m.def_submodule(
+      "rt",
+      "Render-time tables (.spztab, made by table() or `spectralize table`): the spectra of\n"
+      "colours at table speed, by the same evaluator renderers link (libspectralize_rt).");
+  py::class_<RtTable, std::shared_ptr<RtTable>>(rt, "Table",
+                                                "A loaded render-time table (read-only).")
+      .def(py::init<const std::string&>(), py::arg("path"),
+           "Table(path): loads and checks a .spztab file (structure and meaning). OSError names\n"
+           "the file and the reason. Cost: O(file size).")
+      .def_property_readonly(
+          "mode",
+          [](const RtTable& t) { return t.view().reflectance() ? "reflectance" : "emission"; },
+          "'reflectance' or 'emission'.")
+      .def_property_readonly(
+          "colorspace", [](const RtTable& t) { return std::string(t.view().header().colorspace); },
+          "The OCIO colour space the table's RGB belongs to.")
+      .def_property_readonly("wavelengths", &RtTable::wavelengths,
+                             "The table's bands in nm, (N,) float64.")
+      .def("spectra", &RtTable::spectra, py::arg("rgb"), py::kw_only(),
+           py::arg("wavelengths") = py::none(), py::arg("threads") = 0,
+           "spectra(rgb, *, wavelengths=None, threads=0) -> (values, counts)\n\n"
+           "The spectra of linear RGB colours (..., 3) of the table's colour space, any float\n"
+           "dtype: values (..., N) float32 at the table's N bands, or (..., M) at the M\n"
+           "wavelengths given (nm, 1-D). counts: how many colours were exact, mapped (into\n"
+           "the gamut), invalid (NaN, infinite: zero spectra) and negative (luminance below 0:\n"
+           "zero spectra). Without the GIL, on `threads` threads (0: all cores). Cost:\n"
+           "O(colours x N).");
+}
+
+}  // namespace spectralize::python

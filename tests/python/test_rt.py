@@ -1,0 +1,72 @@
+"""spectralize.rt: render-time tables from Python at table speed, over the evaluator renderers
+link. Truths by the NumPy oracle of conftest.py (never the library's weights): a table made by
+table() gives reflectances in [0, 1] that reproduce their colours to 1e-5; colours it cannot
+have are counted and get zero spectra; wavelengths of one's own are the piecewise-linear
+values; a bad path raises OSError naming it."""
+import numpy as np
+import pytest
+
+from conftest import relative_error
+
+
+@pytest.fixture(scope="module")
+def srgb_table(sp, tmp_path_factory):
+    path = tmp_path_factory.mktemp("rt") / "srgb.spztab"
+    sp.table(str(path), colorspace="Linear Rec.709 (sRGB)", mode="reflectance",
+             wavelengths="380:780:10")
+    return sp.rt.Table(str(path))
+
+
+def test_a_tables_spectra_reproduce_their_colours_within_bounds(sp, srgb_table, oracle):
+    t = srgb_table
+    assert t.mode == "reflectance" and t.colorspace == "Linear Rec.709 (sRGB)"
+    wl = t.wavelengths
+    assert wl.dtype == np.float64 and wl[0] == 380 and wl[-1] == 780 and wl.size == 41
+    rng = np.random.default_rng(3)
+    rgb = rng.uniform(0.02, 0.95, size=(20, 30, 3)).astype(np.float32)
+    values, counts = t.spectra(rgb)
+    assert values.shape == (20, 30, 41) and values.dtype == np.float32
+    assert counts == {"exact": 600, "mapped": 0, "invalid": 0, "negative": 0}
+    assert values.min() >= 0 and values.max() <= 1
+    xyz = oracle.reflectance_xyz(values.reshape(-1, 41), wl)
+    target = oracle.reflectance_target(rgb.reshape(-1, 3).astype(np.float64), wl)
+    assert relative_error(xyz, target) <= 1e-5
+    # On two threads and on one: the same numbers.
+    assert np.array_equal(t.spectra(rgb, threads=1)[0], t.spectra(rgb, threads=2)[0])
+
+
+def test_colours_it_cannot_have_are_counted_and_get_zero_spectra(srgb_table):
+    rgb = np.array([[np.nan, 0.5, 0.5], [np.inf, 0, 0], [-1, -1, -1], [1.5, 0.2, 0.1],
+                    [0.3, 0.3, 0.3]], dtype=np.float64)
+    values, counts = srgb_table.spectra(rgb)
+    assert counts == {"exact": 1, "mapped": 1, "invalid": 2, "negative": 1}
+    assert not values[:3].any()
+    assert np.all(np.isfinite(values)) and values.max() <= 1
+
+
+def test_wavelengths_of_ones_own_are_the_piecewise_linear_values(srgb_table):
+    rgb = np.array([0.2, 0.6, 0.3])
+    bands, _ = srgb_table.spectra(rgb)
+    nm = np.array([380, 385.5, 542.25, 779.9, 780, 300, 900], dtype=np.float32)
+    values, _ = srgb_table.spectra(rgb, wavelengths=nm)
+    want = np.interp(nm, srgb_table.wavelengths, bands, left=0, right=0)
+    assert values.shape == (7,)
+    assert np.allclose(values, want, atol=1e-6)
+
+
+def test_a_bad_file_is_refused_naming_it(sp, tmp_path):
+    missing = tmp_path / "missing.spztab"
+    with pytest.raises(OSError, match="missing.spztab"):
+        sp.rt.Table(str(missing))
+    not_a_table = tmp_path / "x.spztab"
+    not_a_table.write_bytes(b"0" * 2048)
+    with pytest.raises(OSError, match="SPZTABLE"):
+        sp.rt.Table(str(not_a_table))
+    with pytest.raises(OSError, match="x.spztab"):
+        sp.rt.Table(str(not_a_table))
+
+
+def test_the_docstrings_say_the_options(sp):
+    doc = sp.rt.Table.spectra.__doc__
+    for word in ("rgb", "wavelengths", "threads", "counts", "Cost"):
+        assert word in doc
