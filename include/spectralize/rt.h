@@ -104,8 +104,9 @@ SPZ_API size_t spz_samples_n(const spz_spectrum* s, float* out, size_t capacity)
 /* The spectrum's band count (0 for the zero spectrum of no table). Cost: O(1). */
 SPZ_API size_t spz_spectrum_bands(const spz_spectrum* s);
 
-/* The spectrum's largest sample: a bound of its value at every wavelength (pbrt's MaxValue(),
- * light bounds, a medium's majorant), without keeping the table beside it. Cost: O(bands). */
+/* A bound of the spectrum's value at every wavelength, as spz_eval and spz_eval4 return them:
+ * its largest sample, 8 ulp up for their rounding (pbrt's MaxValue(), light bounds, a medium's
+ * majorant), without keeping the table beside it. Cost: O(bands). */
 SPZ_API float spz_spectrum_max(const spz_spectrum* s);
 
 /* The spectra of n colours (rgb: 3n floats, linear RGB of the table's space) into out, n rows:

@@ -43,6 +43,16 @@
 #include <emmintrin.h>
 #endif
 
+// The rare paths (boundary cells, colours mapped into the gamut) out of line and out of the
+// hot code; eval4 into the caller's loop.
+#if defined(__GNUC__)
+#define SPZ_COLD __attribute__((noinline, cold))
+#define SPZ_HOT_INLINE __attribute__((always_inline)) inline
+#else
+#define SPZ_COLD
+#define SPZ_HOT_INLINE inline
+#endif
+
 namespace spz {
 
 using Spectrum = spz_spectrum;
@@ -74,6 +84,16 @@ inline void say(char* error, std::size_t size, const char* format, ...) noexcept
   va_start(args, format);
   std::vsnprintf(error, size, format, args);
   va_end(args);
+}
+
+// The bin of position v in an axis' lookup (spz_axis_bin): clamped before the cast, so that NaN
+// (bin 0) and infinities are no undefined behaviour. The writer and the loader's check use
+// this same float arithmetic.
+inline std::uint32_t axis_bin(float v, float origin, float inverse_bin, float last_bin) noexcept {
+  float b = (v - origin) * inverse_bin;
+  b = b > 0.0f ? b : 0.0f;
+  b = b < last_bin ? b : last_bin;
+  return static_cast<std::uint32_t>(b);
 }
 
 inline bool finite(double v) noexcept {
@@ -238,13 +258,28 @@ class TableView {
   template <int dims>
   bool fast_blend(const float u[3], Spectrum& s) const noexcept;
   struct AxisFast {  // one axis' lookup, hot in fetch()
+    const spz_axis_bin* lut;
     const float* p;
     const float* inv;
-    const std::uint32_t* lut;
-    float origin, inv_bin, last_bin;
-    std::uint32_t n;
+    float origin, inv_bin, last_bin, lo, hi;
+    std::uint32_t last;  // last_bin as an integer
   };
   AxisFast fast_[3] = {};
+#if defined(__SSE2__)
+  // fetch()'s reflectance lookup in SSE lanes (x, y, z, unused): the three axes at once.
+  bool fast_blend_sse(const float rgb[3], Spectrum& s) const noexcept;
+  struct Lanes {
+    alignas(16) float lo[4] = {}, hi[4] = {}, origin[4] = {}, inv_bin[4] = {};
+    alignas(16) std::int32_t last[4] = {};    // each axis' last bin
+    alignas(16) std::int32_t lut_at[4] = {};  // each axis' first bin, counted from lut_[0]
+    // By the order code of the fractions (bit 0: f1 > f0, bit 1: f2 > f0, bit 2: f2 > f1): the
+    // slot offsets of the Kuhn walk's first vertex and of its second, and the axes from the
+    // largest fraction to the smallest.
+    std::uint32_t first[8] = {}, second[8] = {};
+    std::uint8_t order[8][3] = {};
+  };
+  Lanes lanes_;
+#endif
   bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s, bool nearest,
                   bool* reproduced) const noexcept;
   bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s, bool nearest,
@@ -269,7 +304,7 @@ class TableView {
   float lut_origin_[3] = {0, 0, 0}, lut_inv_[3] = {0, 0, 0};
   const float* axis_[3] = {nullptr, nullptr, nullptr};
   const float* inverse_[3] = {nullptr, nullptr, nullptr};
-  const std::uint32_t* lut_[3] = {nullptr, nullptr, nullptr};
+  const spz_axis_bin* lut_[3] = {nullptr, nullptr, nullptr};
   const std::uint32_t* cells_ = nullptr;
   const std::uint32_t* slots_ = nullptr;
   const std::uint32_t* bcells_ = nullptr;
@@ -360,6 +395,23 @@ inline void interval_of(const TableView& t, float lambda_nm, std::uint32_t& k, f
 
 }  // namespace detail
 
+namespace detail {
+
+// The one arithmetic of eval, eval4's lanes and max_value, in the order of eval4's SSE lanes
+// (bit for bit): the weighted sums of the vertices' samples at k (x) and k + 1 (y), each as two
+// pairs, blended at fraction f; a reflectance clamped to 1 (rounding only), a light times its
+// scale.
+inline float blend_value(const Spectrum& s, const float x[4], const float y[4], float f) noexcept {
+  const float a =
+      (s.weight[0] * x[0] + s.weight[1] * x[1]) + (s.weight[2] * x[2] + s.weight[3] * x[3]);
+  const float b =
+      (s.weight[0] * y[0] + s.weight[1] * y[1]) + (s.weight[2] * y[2] + s.weight[3] * y[3]);
+  const float v = (1 - f) * a + f * b;
+  return (s.flags & 2u) ? std::min(v, 1.0f) : v * s.scale;
+}
+
+}  // namespace detail
+
 inline float eval(const Spectrum& s, float lambda_nm) noexcept {
   if (!s.table) return 0.0f;  // the zero spectrum (e.g. zero-initialised)
   const TableView& t = *static_cast<const TableView*>(s.table);
@@ -368,26 +420,17 @@ inline float eval(const Spectrum& s, float lambda_nm) noexcept {
   std::uint32_t k;
   float f;
   detail::interval_of(t, lambda_nm, k, f);
-  float acc = 0;
-  if (!(s.flags & 1u)) {
-    for (int v = 0; v < 4; ++v) {
-      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_ + k;
-      acc += s.weight[v] * (p[0] + f * (p[1] - p[0]));
-    }
-  } else {
-    for (int v = 0; v < 4; ++v) {
-      const float a = detail::vertex_value(t, s.vertex[v], k);
-      const float b = detail::vertex_value(t, s.vertex[v], k + 1);
-      acc += s.weight[v] * (a + f * (b - a));
-    }
+  float at[4], next[4];  // the vertices' samples at k and k + 1
+  for (int v = 0; v < 4; ++v) {
+    at[v] = detail::vertex_value(t, s.vertex[v], k);
+    next[v] = detail::vertex_value(t, s.vertex[v], k + 1);
   }
-  acc *= s.scale;
-  return (s.flags & 2u) ? std::min(acc, 1.0f) : acc;
+  return detail::blend_value(s, at, next, f);
 }
 
 /// The values at four wavelengths. Cost: O(1), 32 loads; the arithmetic in SSE lanes where
 /// the compiler targets SSE2 (every x86-64), else the same in plain C++.
-inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noexcept {
+SPZ_HOT_INLINE void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noexcept {
   if (!s.table) {  // the zero spectrum (e.g. zero-initialised)
     out[0] = out[1] = out[2] = out[3] = 0.0f;
     return;
@@ -405,55 +448,47 @@ inline void eval4(const Spectrum& s, const float lambda_nm[4], float out[4]) noe
     const __m128 lk = _mm_add_ps(start, _mm_mul_ps(_mm_cvtepi32_ps(ki), _mm_set1_ps(t.step_)));
     const __m128 lc = _mm_or_ps(_mm_and_ps(in, l), _mm_andnot_ps(in, start));
     const __m128 f = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(lc, lk), inv), one), zero);
-    alignas(16) std::int32_t k[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(k), ki);
-    __m128 acc = zero;
+    const int k0 = _mm_cvtsi128_si32(ki), k1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(ki, 0x55));
+    const int k2 = _mm_cvtsi128_si32(_mm_shuffle_epi32(ki, 0xAA));
+    const int k3 = _mm_cvtsi128_si32(_mm_shuffle_epi32(ki, 0xFF));
+    // The weighted sums of the samples at k and k + 1 (each lane's two samples in one 8-byte
+    // load; the four vertices summed as two pairs), then one blend per lane: a short chain
+    // from the vertices to the values.
+    __m128 lo[4], hi[4];
     for (int v = 0; v < 4; ++v) {
       const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
-      // Each lane's two samples in one 8-byte load, then split into a (k) and b (k + 1).
-      __m128 lo = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[0]));
-      lo = _mm_loadh_pi(lo, reinterpret_cast<const __m64*>(p + k[1]));
-      __m128 hi = _mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k[2]));
-      hi = _mm_loadh_pi(hi, reinterpret_cast<const __m64*>(p + k[3]));
-      const __m128 a = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m128 b = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
-      const __m128 value = _mm_add_ps(a, _mm_mul_ps(f, _mm_sub_ps(b, a)));
-      acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(s.weight[v]), value));
+      const __m128 w = _mm_set1_ps(s.weight[v]);
+      lo[v] = _mm_mul_ps(w, _mm_loadh_pi(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k0)),
+                                         reinterpret_cast<const __m64*>(p + k1)));
+      hi[v] = _mm_mul_ps(w, _mm_loadh_pi(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k2)),
+                                         reinterpret_cast<const __m64*>(p + k3)));
     }
-    acc = _mm_and_ps(in, _mm_mul_ps(acc, _mm_set1_ps(s.scale)));
-    if (s.flags & 2u) acc = _mm_min_ps(acc, one);
+    const __m128 acc01 = _mm_add_ps(_mm_add_ps(lo[0], lo[1]), _mm_add_ps(lo[2], lo[3]));
+    const __m128 acc23 = _mm_add_ps(_mm_add_ps(hi[0], hi[1]), _mm_add_ps(hi[2], hi[3]));
+    const __m128 a = _mm_shuffle_ps(acc01, acc23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 b = _mm_shuffle_ps(acc01, acc23, _MM_SHUFFLE(3, 1, 3, 1));
+    __m128 acc = _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, f), a), _mm_mul_ps(f, b));
+    acc = (s.flags & 2u) ? _mm_min_ps(acc, one) : _mm_mul_ps(acc, _mm_set1_ps(s.scale));
+    acc = _mm_and_ps(in, acc);
     _mm_storeu_ps(out, acc);
     return;
   }
 #endif
   std::uint32_t k[4];
-  float f[4], acc[4] = {0, 0, 0, 0};
+  float f[4];
   bool in[4];
   for (int l = 0; l < 4; ++l) {
     const float x = (lambda_nm[l] - t.start_) * t.inv_step_;
     in[l] = x >= 0.0f && x <= t.last_;
     detail::interval_of(t, in[l] ? lambda_nm[l] : t.start_, k[l], f[l]);
   }
-  if (!(s.flags & 1u)) {
-    for (int v = 0; v < 4; ++v) {
-      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
-      const float w = s.weight[v];
-      for (int l = 0; l < 4; ++l) {
-        const float a = p[k[l]], b = p[k[l] + 1];
-        acc[l] += w * (a + f[l] * (b - a));
-      }
-    }
-  } else {
-    for (int v = 0; v < 4; ++v)
-      for (int l = 0; l < 4; ++l) {
-        const float a = detail::vertex_value(t, s.vertex[v], k[l]);
-        const float b = detail::vertex_value(t, s.vertex[v], k[l] + 1);
-        acc[l] += s.weight[v] * (a + f[l] * (b - a));
-      }
-  }
   for (int l = 0; l < 4; ++l) {
-    const float v = in[l] ? acc[l] * s.scale : 0.0f;
-    out[l] = (s.flags & 2u) ? std::min(v, 1.0f) : v;
+    float x[4], y[4];
+    for (int v = 0; v < 4; ++v) {
+      x[v] = detail::vertex_value(t, s.vertex[v], k[l]);
+      y[v] = detail::vertex_value(t, s.vertex[v], k[l] + 1);
+    }
+    out[l] = in[l] ? detail::blend_value(s, x, y, f[l]) : 0.0f;
   }
 }
 
@@ -499,19 +534,21 @@ inline std::size_t samples(const Spectrum& s, float* out, std::size_t capacity) 
   return n;
 }
 
-/// The largest sample of the spectrum (0 for the zero spectrum): an upper bound of its values
-/// at any wavelength (pbrt's MaxValue(), a medium's majorant). Cost: O(bands).
+/// An upper bound of the spectrum's values at every wavelength, eval's and eval4's: its largest
+/// sample with 8 ulp of room for their rounding (0 for the zero spectrum; pbrt's MaxValue(), a
+/// medium's majorant). Cost: O(bands).
 inline float max_value(const Spectrum& s) noexcept {
   if (!s.table) return 0.0f;
   const TableView& t = *static_cast<const TableView*>(s.table);
   float most = 0;
   for (std::uint32_t k = 0; k < t.bands_; ++k) {
-    float acc = 0;
-    for (int v = 0; v < 4; ++v) acc += s.weight[v] * detail::vertex_value(t, s.vertex[v], k);
-    most = std::max(most, acc);
+    float x[4];
+    for (int v = 0; v < 4; ++v) x[v] = detail::vertex_value(t, s.vertex[v], k);
+    most = std::max(most, detail::blend_value(s, x, x, 0.0f));
   }
-  most *= s.scale;
-  return (s.flags & 2u) ? std::min(most, 1.0f) : most;
+  // Between samples eval blends the two, which rounds a few ulp above the larger: 8 ulp of
+  // room, so that no value eval returns exceeds the bound.
+  return (s.flags & 2u) ? std::min(most * (1.0f + 0x1p-21f), 1.0f) : most * (1.0f + 0x1p-21f);
 }
 
 /// The number of samples of the spectrum (0 for the zero spectrum of no table). Cost: O(1).
@@ -710,8 +747,8 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     return say(error, error_size, "too many nodes (%llu)", static_cast<unsigned long long>(nodes)),
            false;
   // Sections: aligned, inside the file, counts consistent with the header.
-  const std::size_t element[SPZ_SECTION_COUNT] = {4, 4, 4, 4, 4, 4, 4, 4, 4,
-                                                  4, 8, 4, 4, 4, 8, 8, 8};
+  const std::size_t element[SPZ_SECTION_COUNT] = {4, 4, 4, 4, 16, 4, 4, 4, 4,
+                                                  4, 8, 4, 4, 4,  8, 8, 8};
   const void* at[SPZ_SECTION_COUNT];
   std::uint64_t count[SPZ_SECTION_COUNT];
   for (int s = 0; s < static_cast<int>(SPZ_SECTION_COUNT); ++s) {
@@ -751,7 +788,8 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       {SPZ_SECTION_AXIS_Y, count[SPZ_SECTION_AXIS_Y] == h->nodes[1], "nodes[1] positions"},
       {SPZ_SECTION_AXIS_Z, count[SPZ_SECTION_AXIS_Z] == h->nodes[2], "nodes[2] positions"},
       {SPZ_SECTION_AXIS_INVERSE, count[SPZ_SECTION_AXIS_INVERSE] == intervals, "one per interval"},
-      {SPZ_SECTION_AXIS_LUT, count[SPZ_SECTION_AXIS_LUT] == lut_total, "the lut_sizes' sum"},
+      {SPZ_SECTION_AXIS_LUT, count[SPZ_SECTION_AXIS_LUT] == lut_total + 1,
+       "the lut_sizes' sum and one"},
       {SPZ_SECTION_CELLS, count[SPZ_SECTION_CELLS] == cells, "one per cell"},
       {SPZ_SECTION_NODE_SLOTS, count[SPZ_SECTION_NODE_SLOTS] == nodes, "one per node"},
       {SPZ_SECTION_SPECTRA,
@@ -804,13 +842,13 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       }
       inv_at += n_[a] - 1;
     }
-    lut_[a] = u32(SPZ_SECTION_AXIS_LUT) + lut_at;
+    lut_[a] = static_cast<const spz_axis_bin*>(at[SPZ_SECTION_AXIS_LUT]) + lut_at;
     lut_size_[a] = h->lut_size[a];
     lut_origin_[a] = h->lut_origin[a];
     lut_inv_[a] = h->lut_inverse_bin[a];
-    // Each bin names the interval holding its start (the lookup then steps at most one
-    // interval either way), exactly as the writer makes it; bins are no wider than half the
-    // shortest interval.
+    // Bins no wider than half the shortest interval; each names the interior nodes of lower
+    // bins and the one inside it (spz_axis_bin), exactly as the writer makes it: the bins are
+    // those of detail::axis_bin, the same float arithmetic as the lookup's.
     if (n_[a] > 1) {
       float shortest = INFINITY;
       for (std::uint32_t k = 0; k + 1 < n_[a]; ++k)
@@ -820,14 +858,32 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
             static_cast<double>(axis_[a][n_[a] - 1] - axis_[a][0]) * (1 - 1e-6)))
         return say(error, error_size, "bad lookup of axis %d", a), false;
     }
-    std::uint32_t expect = 0;
+    const float last_bin = static_cast<float>(lut_size_[a] - 1);
+    std::uint32_t below = 0, next = 1;  // interior nodes of lower bins; the next interior node
     for (std::uint32_t b = 0; b < lut_size_[a]; ++b) {
-      const float start = lut_origin_[a] + static_cast<float>(b) / lut_inv_[a];
-      while (expect + 2 < n_[a] && start >= axis_[a][expect + 1]) ++expect;
-      if (lut_[a][b] != expect)
+      float split = INFINITY;
+      while (next + 1 < n_[a] &&
+             detail::axis_bin(axis_[a][next], lut_origin_[a], lut_inv_[a], last_bin) == b) {
+        if (split != INFINITY)
+          return say(error, error_size, "bin %u of axis %d holds two nodes", b, a), false;
+        split = axis_[a][next++];
+      }
+      const spz_axis_bin& e = lut_[a][b];
+      const float position = axis_[a][below];
+      const float inverse = n_[a] > 1 && a < static_cast<int>(dims_) ? inverse_[a][below] : 0.0f;
+      if (e.interval != below || std::memcmp(&e.split, &split, sizeof split) != 0 ||
+          std::memcmp(&e.position, &position, sizeof position) != 0 ||
+          std::memcmp(&e.inverse, &inverse, sizeof inverse) != 0)
         return say(error, error_size, "axis lookup entry %u of axis %d is wrong", b, a), false;
+      below = next - 1;
     }
     lut_at += lut_size_[a];
+  }
+  {  // The final entry, read as the bin after the last: zeros.
+    const spz_axis_bin zeros{};
+    if (std::memcmp(static_cast<const spz_axis_bin*>(at[SPZ_SECTION_AXIS_LUT]) + lut_at, &zeros,
+                    sizeof zeros) != 0)
+      return say(error, error_size, "the axis lookup's final entry is not zeros"), false;
   }
   slots_ = u32(SPZ_SECTION_NODE_SLOTS);
   for (std::uint64_t k = 0; k < nodes; ++k)
@@ -965,8 +1021,37 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
              false;
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
   for (int a = 0; a < 3; ++a)
-    fast_[a] = {axis_[a],    inverse_[a] ? inverse_[a] : axis_[a], lut_[a], lut_origin_[a],
-                lut_inv_[a], static_cast<float>(lut_size_[a] - 1), n_[a]};
+    fast_[a] = {lut_[a],
+                axis_[a],
+                inverse_[a] ? inverse_[a] : axis_[a],
+                lut_origin_[a],
+                lut_inv_[a],
+                static_cast<float>(lut_size_[a] - 1),
+                axis_[a][0],
+                axis_[a][n_[a] - 1],
+                lut_size_[a] - 1};
+#if defined(__SSE2__)
+  if (reflectance) {
+    for (int a = 0; a < 3; ++a) {
+      lanes_.lo[a] = fast_[a].lo, lanes_.hi[a] = fast_[a].hi;
+      lanes_.origin[a] = fast_[a].origin, lanes_.inv_bin[a] = fast_[a].inv_bin;
+      lanes_.last[a] = static_cast<std::int32_t>(lut_size_[a] - 1);
+      lanes_.lut_at[a] = static_cast<std::int32_t>(lut_[a] - lut_[0]);
+    }
+    const std::uint32_t step[3] = {1, n_[0], n_[0] * n_[1]};
+    for (std::uint32_t code = 0; code < 8; ++code) {
+      // Each axis' rank among the three (ties by axis order), as fast_blend<3> ranks them;
+      // the two orders no floats have (f1 > f0, f2 > f1, f0 >= f2) get the axes' own order.
+      const std::uint32_t gt01 = code & 1u, gt02 = (code >> 1) & 1u, gt12 = (code >> 2) & 1u;
+      std::uint32_t rank[3] = {gt01 + gt02, (1 - gt01) + gt12, (1 - gt02) + (1 - gt12)};
+      if (rank[0] == rank[1] || rank[0] == rank[2] || rank[1] == rank[2])
+        rank[0] = 0, rank[1] = 1, rank[2] = 2;
+      for (std::uint8_t a = 0; a < 3; ++a) lanes_.order[code][rank[a]] = a;
+      lanes_.first[code] = step[lanes_.order[code][0]];
+      lanes_.second[code] = lanes_.first[code] + step[lanes_.order[code][1]];
+    }
+  }
+#endif
   h_ = h;
   reflectance_ = reflectance;
   bands_ = bands;
@@ -1092,12 +1177,9 @@ inline bool TableView::locate(const double u[3], int i[3], double f[3], bool cla
     if (clamp) v = std::min(std::max(v, static_cast<double>(p[0])), static_cast<double>(p[n - 1]));
     if (moved && v != u[a]) *moved = true;
     if (!(v >= p[0] && v <= p[n - 1])) return false;
-    // Clamped before the cast (a NaN compares false: bin 0).
-    float b = (static_cast<float>(v) - lut_origin_[a]) * lut_inv_[a];
-    b = b > 0 ? b : 0.0f;
-    b = b < static_cast<float>(lut_size_[a] - 1) ? b : static_cast<float>(lut_size_[a] - 1);
-    const std::uint32_t bin = static_cast<std::uint32_t>(b);
-    std::uint32_t k = lut_[a][bin];
+    std::uint32_t k = lut_[a][detail::axis_bin(static_cast<float>(v), lut_origin_[a], lut_inv_[a],
+                                               static_cast<float>(lut_size_[a] - 1))]
+                          .interval;
     while (k > 0 && v < p[k]) --k;
     while (k + 2 < n && v >= p[k + 1]) ++k;
     i[a] = static_cast<int>(k);
@@ -1121,8 +1203,9 @@ inline bool TableView::close_to(const double u[3], const double v[3]) const noex
   return detail::max_abs(diff) <= 1e-6 * detail::max_abs(want);
 }
 
-inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const double u[3],
-                                      Spectrum& s, bool nearest, bool* reproduced) const noexcept {
+SPZ_COLD inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const double u[3],
+                                               Spectrum& s, bool nearest,
+                                               bool* reproduced) const noexcept {
   const std::uint32_t first = bcells_[2 * b], count = bcells_[2 * b + 1];
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
@@ -1155,7 +1238,8 @@ inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const dou
       const double d = d0 * d0 + d1 * d1 + d2 * d2;
       if (d < nearest_d) nearest_d = d, o = v;
     }
-    int others[3], m = 0;
+    // Zeroed: with two dimensions the third entry is never read, which GCC 16 cannot see.
+    int others[3] = {0, 0, 0}, m = 0;
     for (int v = 0; v <= static_cast<int>(dims_); ++v)
       if (v != o) others[m++] = v;
     double w[4] = {0, 0, 0, 0};
@@ -1294,23 +1378,27 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
   for (int a = 0; a < dims; ++a) {
     const AxisFast& x = fast_[a];
     const float v = u[a];
-    inside = inside && v >= x.p[0] && v <= x.p[x.n - 1];  // false for NaN
-    // The bin, clamped before the cast so that NaN and infinities are no undefined behaviour
-    // (a NaN compares false: bin 0).
-    float b = (v - x.origin) * x.inv_bin;
-    b = b > 0.0f ? b : 0.0f;
-    b = b < x.last_bin ? b : x.last_bin;
-    std::uint32_t k = x.lut[static_cast<std::uint32_t>(b)];
-    k -= static_cast<std::uint32_t>(k > 0) & static_cast<std::uint32_t>(v < x.p[k]);
-    k += static_cast<std::uint32_t>(k + 2 < x.n) & static_cast<std::uint32_t>(v >= x.p[k + 1]);
+    inside &= (v >= x.lo) & (v <= x.hi);  // false for NaN
+    // One step: the bin's interval, or the next when v is at or above the node inside it.
+#if defined(__SSE2__)
+    // The bin clamped after SSE's defined conversion (NaN and any float out of int32 range
+    // give 0x80000000): the same bin as axis_bin for every v >= origin, a valid one for others.
+    const std::uint32_t bin = std::min(
+        static_cast<std::uint32_t>(_mm_cvttss_si32(_mm_set_ss((v - x.origin) * x.inv_bin))),
+        x.last);
+#else
+    const std::uint32_t bin = detail::axis_bin(v, x.origin, x.inv_bin, x.last_bin);
+#endif
+    const spz_axis_bin e = x.lut[bin];
+    const std::uint32_t k = e.interval + static_cast<std::uint32_t>(v >= e.split);
     i[a] = k;
-    f[a] = std::min(std::max((v - x.p[k]) * x.inv[k], 0.0f), 1.0f);
+    // v >= p[k] for v inside (the lookup's invariant): only rounding can pass 1.
+    f[a] = std::min((v - x.p[k]) * x.inv[k], 1.0f);
   }
-  if (!inside) return false;
   const std::uint32_t nx = n_[0], nxy = n_[0] * n_[1];
   const std::uint32_t code = cells_[i[0] + (nx - 1) * (i[1] + (n_[1] - 1) * i[2])];
-  if (code != 0) {
-    if (code == SPZ_OUTSIDE) return false;
+  if (!inside | (code != 0)) {  // one branch for the common case
+    if (!inside || code == SPZ_OUTSIDE) return false;
     const int ii[3] = {static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])};
     const double du[3] = {u[0], u[1], dims == 3 ? u[2] : 0.0};
     return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false, nullptr);
@@ -1351,6 +1439,83 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
   }
 }
 
+#if defined(__SSE2__)
+// fast_blend<3> with the three axes in SSE lanes: the same cells, vertices and weights.
+inline bool TableView::fast_blend_sse(const float rgb[3], Spectrum& s) const noexcept {
+  const Lanes& L = lanes_;
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 v = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(rgb)),
+                                 _mm_load_ss(rgb + 2));  // r, g, b, 0
+  // Inside the grid (NaN is not); lane 3's 0 is inside [0, 0].
+  const bool inside = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, _mm_load_ps(L.lo)),
+                                                 _mm_cmple_ps(v, _mm_load_ps(L.hi)))) == 0xF;
+  // The bins of detail::axis_bin for every v up to the grid's end, clamped after the cast:
+  // SSE's conversion is defined for any float (NaN and beyond int32: 0x80000000, bin 0).
+  const __m128i last = _mm_load_si128(reinterpret_cast<const __m128i*>(L.last));
+  const __m128i raw =
+      _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(v, _mm_load_ps(L.origin)), _mm_load_ps(L.inv_bin)));
+  const __m128i above = _mm_cmpgt_epi32(raw, last);
+  const __m128i top = _mm_or_si128(_mm_and_si128(above, last), _mm_andnot_si128(above, raw));
+  const __m128i bin =
+      _mm_add_epi32(_mm_andnot_si128(_mm_cmplt_epi32(top, _mm_setzero_si128()), top),
+                    _mm_load_si128(reinterpret_cast<const __m128i*>(L.lut_at)));
+  // Each axis' bin and the next one (spz_axis_bin: interval, split, position, inverse), in
+  // lanes: the interval and the position and inverse below the split, and above it (the next
+  // bin's), chosen by v >= split (a true compare is -1, and all bits).
+  const spz_axis_bin* lut = lut_[0];
+  const spz_axis_bin* b0 = lut + _mm_cvtsi128_si32(bin);
+  const spz_axis_bin* b1 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55));
+  const spz_axis_bin* b2 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xAA));
+  auto load = [](const spz_axis_bin* b) {  // 16 bytes; a view's data is only 8-byte aligned
+    return _mm_loadu_ps(reinterpret_cast<const float*>(b));
+  };
+  __m128 e0 = load(b0), e1 = load(b1), e2 = load(b2), e3 = zero;
+  __m128 n0 = load(b0 + 1), n1 = load(b1 + 1), n2 = load(b2 + 1), n3 = zero;
+  _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // intervals, splits, positions, inverses
+  _MM_TRANSPOSE4_PS(n0, n1, n2, n3);  // the next bins': positions in n2, inverses in n3
+  const __m128 upper = _mm_cmpge_ps(v, e1);
+  const __m128i k = _mm_sub_epi32(_mm_castps_si128(e0), _mm_castps_si128(upper));
+  const __m128 p = _mm_or_ps(_mm_and_ps(upper, n2), _mm_andnot_ps(upper, e2));
+  const __m128 inv = _mm_or_ps(_mm_and_ps(upper, n3), _mm_andnot_ps(upper, e3));
+  const std::uint32_t k0 = static_cast<std::uint32_t>(_mm_cvtsi128_si32(k));
+  const std::uint32_t k1 =
+      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 0x55)));
+  const std::uint32_t k2 =
+      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 0xAA)));
+  // In [0, 1] for v inside (v >= p, the lookup's invariant) but for rounding above 1, which
+  // the first weight absorbs below (off the path to the vertices).
+  const __m128 f = _mm_mul_ps(_mm_sub_ps(v, p), inv);
+  const std::uint32_t nx = n_[0], ny = n_[1];
+  const std::uint32_t code = cells_[k0 + (nx - 1) * (k1 + (ny - 1) * k2)];
+  if (!inside | (code != 0)) {  // one branch for the common case
+    if (!inside || code == SPZ_OUTSIDE) return false;
+    const int ii[3] = {static_cast<int>(k0), static_cast<int>(k1), static_cast<int>(k2)};
+    const double du[3] = {rgb[0], rgb[1], rgb[2]};
+    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false, nullptr);
+  }
+  // Kuhn: the order of the fractions (f1 > f0, f2 > f0, f2 > f1 in bits 0-2), its walk and
+  // the weights, the gaps between the sorted fractions (ordered floats: >= 0 bit for bit).
+  const int order = _mm_movemask_ps(_mm_cmpgt_ps(_mm_shuffle_ps(f, f, _MM_SHUFFLE(3, 2, 2, 1)),
+                                                 _mm_shuffle_ps(f, f, _MM_SHUFFLE(3, 1, 0, 0)))) &
+                    7;
+  alignas(16) float fa[4];
+  _mm_store_ps(fa, f);
+  const std::uint8_t* by = L.order[order];
+  const float hi = fa[by[0]], mid = fa[by[1]], lo = fa[by[2]];
+  const std::uint32_t base = k0 + nx * (k1 + ny * k2);
+  s.flags &= ~1u;
+  s.vertex[0] = slots_[base];
+  s.vertex[1] = slots_[base + L.first[order]];
+  s.vertex[2] = slots_[base + L.second[order]];
+  s.vertex[3] = slots_[base + 1 + nx + nx * ny];
+  s.weight[0] = std::max(1 - hi, 0.0f);
+  s.weight[1] = hi - mid;
+  s.weight[2] = mid - lo;
+  s.weight[3] = lo;
+  return true;
+}
+#endif
+
 inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest,
                              bool* reproduced) const noexcept {
   int i[3] = {0, 0, 0};  // set by locate(); initialised for GCC's -Wmaybe-uninitialized
@@ -1381,7 +1546,7 @@ inline bool TableView::blend(const double u[3], Spectrum& s, bool nearest,
   return cell_blend(i, f, u, s, true, reproduced);
 }
 
-inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
+SPZ_HOT_INLINE int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
   if (!h_) {  // an empty view: the zero spectrum of no table
     s.table = nullptr;
     s.flags = 0;
@@ -1394,7 +1559,11 @@ inline int TableView::fetch(const float rgb[3], Spectrum& s) const noexcept {
     s.scale = 1;
     // Colours darker than kDarkest go the slow way (false for NaN too).
     const float top = std::max(std::max(rgb[0], rgb[1]), rgb[2]);
+#if defined(__SSE2__)
+    if (top >= static_cast<float>(kDarkest) && fast_blend_sse(rgb, s)) return SPZ_EXACT;
+#else
     if (top >= static_cast<float>(kDarkest) && fast_blend<3>(rgb, s)) return SPZ_EXACT;
+#endif
   } else {
     const float* m = to_target_f_;
     const float X = m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2];
@@ -1441,7 +1610,7 @@ inline int TableView::map_target(detail::Vec3& t) const noexcept {
   return SPZ_MAPPED;
 }
 
-inline int TableView::slow_fetch(const float rgb[3], Spectrum& s) const noexcept {
+SPZ_COLD inline int TableView::slow_fetch(const float rgb[3], Spectrum& s) const noexcept {
   const detail::Vec3 c{rgb[0], rgb[1], rgb[2]};
   detail::Vec3 t = detail::mul(h_->rgb_to_target, c);
   zero(s);

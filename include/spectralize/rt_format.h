@@ -1,4 +1,4 @@
-/* The .spztab file format, version 3 (docs/DESIGN.md §14): what `spectralize table` writes and
+/* The .spztab file format, version 4 (docs/DESIGN.md §14): what `spectralize table` writes and
  * <spectralize/rt.h> reads. Plain C, fixed-width fields, little-endian.
  *
  * A file is a 1024-byte header followed by 17 sections. Every section starts at a multiple of
@@ -8,8 +8,10 @@
  * file with the checksum field taken as zero. Version 3 adds what a reader needs to check a
  * table's meaning, not only its structure: each band's weights (the target XYZ of a unit
  * sample, so every stored spectrum's colour is checked against its position), the largest
- * sample, and the most simplices of a boundary cell (the bound of a fetch's cost). Versions 1
- * and 2 are refused by version: make the table again with `spectralize table`.
+ * sample, and the most simplices of a boundary cell (the bound of a fetch's cost). Version 4's
+ * axis lookup names, per bin, the node inside it too, so that a lookup takes one step instead
+ * of three. Older versions are refused by version: make the table again with `spectralize
+ * table`.
  *
  * Geometry. Reflectance tables live in the colour space's linear RGB (coordinates = RGB);
  * emission tables in CIE xy of the colour's XYZ (scale = X+Y+Z). A grid of nodes (positions
@@ -24,7 +26,7 @@
 
 #include <stdint.h>
 
-#define SPZ_FORMAT_VERSION 3u
+#define SPZ_FORMAT_VERSION 4u
 #define SPZ_BYTE_ORDER_MARK 0x01020304u /* reads 04 03 02 01 in a little-endian file */
 #define SPZ_SECTION_ALIGNMENT 64u
 #define SPZ_HEADER_SIZE 1024u
@@ -46,7 +48,8 @@ enum spz_section {
   SPZ_SECTION_AXIS_Y = 1,         /* float[nodes[1]] */
   SPZ_SECTION_AXIS_Z = 2,         /* float[nodes[2]] (emission: one position) */
   SPZ_SECTION_AXIS_INVERSE = 3,   /* float[sum of nodes[a]-1]: 1 / interval length, by axis */
-  SPZ_SECTION_AXIS_LUT = 4,       /* uint32[sum of lut_size[a]]: the interval of each bin */
+  SPZ_SECTION_AXIS_LUT = 4,       /* spz_axis_bin[sum of lut_size[a]], by axis, then one of
+                                     zeros (a lookup reads the bin after its own) */
   SPZ_SECTION_CELLS = 5,          /* uint32 per cell, x fastest: 0 inside, SPZ_OUTSIDE, or
                                      SPZ_BOUNDARY_BIT | boundary cell index */
   SPZ_SECTION_NODE_SLOTS = 6,     /* uint32 per node, x fastest: spectrum slot or SPZ_OUTSIDE */
@@ -66,6 +69,21 @@ enum spz_section {
                                     band k (every stored spectrum s reproduces sum_k s_k w_k) */
   SPZ_SECTION_COUNT = 17
 };
+
+/* One bin of an axis' lookup. A position v falls in bin
+ * b = (uint32_t)min(max((v - lut_origin) * lut_inverse_bin, 0), lut_size - 1), in float; its
+ * interval is `interval` + (v >= split). `split` is the one interior node (positions 1 to
+ * nodes - 2) whose bin is b, or +infinity; `interval` counts the interior nodes of lower bins;
+ * `position` and `inverse` are that interval's start and 1 / length (the axis' and the inverse
+ * section's values; 0 for an axis of one node). Bins are no wider than half the shortest
+ * interval, so no bin holds two nodes, and the bin after one with a node starts in the next
+ * interval: a lookup reads both bins at once and has the fraction without a further step. */
+typedef struct spz_axis_bin {
+  uint32_t interval;
+  float split;
+  float position;
+  float inverse;
+} spz_axis_bin;
 
 typedef struct spz_section_entry {
   uint64_t offset; /* bytes from the start of the file, a multiple of 64 */

@@ -37,17 +37,19 @@ void copy_name(char* field, std::size_t size, const std::string& value, const ch
   std::memcpy(field, value.data(), value.size());
 }
 
-// The interval of each bin of width w (half the shortest interval) from the first position.
+// The lookup of an axis (spz_axis_bin): bins of half the shortest interval from the first
+// position; per bin the interior nodes of lower bins and the one inside it, binned by the
+// evaluator's own float arithmetic (spz::detail::axis_bin), which its loader checks.
 struct AxisLookup {
-  std::vector<std::uint32_t> bins;
+  std::vector<spz_axis_bin> bins;
   float origin = 0, inverse_bin = 1;
 };
 
-AxisLookup lookup_of(const std::vector<float>& axis) {
+AxisLookup lookup_of(const std::vector<float>& axis, const float* inverse) {
   AxisLookup l;
   l.origin = axis.front();
   if (axis.size() < 2) {
-    l.bins = {0};
+    l.bins = {{0, INFINITY, axis.front(), 0.0f}};
     return l;
   }
   float shortest = INFINITY;
@@ -56,12 +58,15 @@ AxisLookup lookup_of(const std::vector<float>& axis) {
   l.inverse_bin = 2 / shortest;
   const std::size_t size =
       static_cast<std::size_t>(std::ceil((axis.back() - axis.front()) * l.inverse_bin)) + 1;
-  l.bins.resize(size);
-  std::size_t k = 0;
-  for (std::size_t b = 0; b < size; ++b) {
-    const float at = l.origin + static_cast<float>(b) / l.inverse_bin;
-    while (k + 2 < axis.size() && at >= axis[k + 1]) ++k;
-    l.bins[b] = static_cast<std::uint32_t>(k);
+  l.bins.assign(size, {0, INFINITY, axis[0], inverse ? inverse[0] : 0.0f});
+  const float last = static_cast<float>(size - 1);
+  for (std::size_t j = 1; j + 1 < axis.size(); ++j) {
+    const std::uint32_t b = spz::detail::axis_bin(axis[j], l.origin, l.inverse_bin, last);
+    if (l.bins[b].split != INFINITY)
+      throw Error("table file: two nodes of an axis fall in one lookup bin");
+    l.bins[b].split = axis[j];
+    for (std::size_t c = b + 1; c < size; ++c)
+      l.bins[c] = {static_cast<std::uint32_t>(j), INFINITY, axis[j], inverse ? inverse[j] : 0.0f};
   }
   return l;
 }
@@ -111,20 +116,23 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
 
   // The sections' contents.
   std::vector<float> axes[3], inverse;
-  std::vector<std::uint32_t> luts;
+  std::vector<spz_axis_bin> luts;
   const int dims = reflectance ? 3 : 2;
   for (int a = 0; a < 3; ++a) {
     for (double v : table.axis(a)) axes[a].push_back(static_cast<float>(v));
     h.nodes[a] = static_cast<std::uint32_t>(axes[a].size());
+    const std::size_t first_inverse = inverse.size();
     if (a < dims)
       for (std::size_t k = 0; k + 1 < axes[a].size(); ++k)
         inverse.push_back(static_cast<float>(1.0 / (table.axis(a)[k + 1] - table.axis(a)[k])));
-    const AxisLookup l = lookup_of(axes[a]);
+    const bool has_inverse = a < dims && axes[a].size() > 1;
+    const AxisLookup l = lookup_of(axes[a], has_inverse ? &inverse[first_inverse] : nullptr);
     h.lut_size[a] = static_cast<std::uint32_t>(l.bins.size());
     h.lut_origin[a] = l.origin;
     h.lut_inverse_bin[a] = l.inverse_bin;
     luts.insert(luts.end(), l.bins.begin(), l.bins.end());
   }
+  luts.push_back(spz_axis_bin{});  // read as "the next bin" by the last bin of the last axis
   std::vector<std::uint32_t> slots(table.node_count(), SPZ_OUTSIDE);
   std::vector<float> spectra;
   std::uint32_t next = 0;
@@ -190,8 +198,8 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
     }
     return out;
   };
-  // What a reader checks the table's meaning with (rt_format.h, version 3): each band's target
-  // X, Y, Z per unit sample, the largest sample, the most simplices a fetch tests.
+  // What a reader checks the table's meaning with (rt_format.h, since version 3): each band's
+  // target X, Y, Z per unit sample, the largest sample, the most simplices a fetch tests.
   std::vector<double> band_weights;
   for (const Xyz& w : sp.weights().columns())
     band_weights.insert(band_weights.end(), {w.X, w.Y, w.Z});
@@ -218,7 +226,7 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
                                          {axes[1].data(), axes[1].size(), 4},
                                          {axes[2].data(), axes[2].size(), 4},
                                          {inverse.data(), inverse.size(), 4},
-                                         {luts.data(), luts.size(), 4},
+                                         {luts.data(), luts.size(), sizeof(spz_axis_bin)},
                                          {cells.data(), cells.size(), 4},
                                          {slots.data(), slots.size(), 4},
                                          {spectra.data(), spectra.size(), 4},

@@ -57,6 +57,13 @@ inline constexpr double kPrimariesTolerance = 1e-3;
 /// table). Throws Error naming the option. Cost: the config's parse, OCIO processors.
 JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names);
 
+/// The share of the RGB unit cube whose colours a table of `frame` (its RGB -> XYZ) reproduces
+/// exactly: of the steps^3 cell centres of [0, 1]^3, those whose target lies in the mode's
+/// gamut (the reflectance solid; for emission the spectral locus) as the mapping decides it
+/// (docs/DESIGN.md §5; within the snap tolerance is inside). The rest are mapped. Thread-safe.
+/// Cost: steps^3 gamut tests, O(facets) each (~0.2 s at 32 on one core).
+double feasible_share(const Spectralizer& sp, const Mat3& frame, int steps = 32);
+
 /// A built table file.
 struct RenderTable {
   std::string bytes;       // the .spztab file
@@ -64,6 +71,7 @@ struct RenderTable {
   ExactTableStats stats;
   std::size_t spectra = 0;         // node spectra stored
   std::size_t boundary_cells = 0;  // cells clipped to the gamut
+  double feasible = 0;             // feasible_share() of the table's space
   double seconds = 0;              // to build it
 };
 

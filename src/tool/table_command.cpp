@@ -46,10 +46,13 @@ int run_table(const Options& opt) {
   if (opt.verbosity > 0)
     fmt::print(stderr,
                "spectralize: wrote '{}': {}, {}, {}, {}; {:.1f} MB, {} node spectra, {} boundary "
-               "cells; {:.1f} s\n",
+               "cells; exact for {:.1f}% of the RGB unit cube (inside the {}; the rest is "
+               "mapped); {:.1f} s\n",
                opt.output, table.colorspace, to_string(s.spectral.mode), s.spectral.model,
                s.spectral.grid.to_string(), static_cast<double>(table.bytes.size()) / 1e6,
-               table.spectra, table.boundary_cells, table.seconds);
+               table.spectra, table.boundary_cells, 100 * table.feasible,
+               s.spectral.mode == Mode::emission ? "spectral locus" : "reflectance solid",
+               table.seconds);
   return kExitOk;
 }
 

@@ -167,6 +167,19 @@ TEST(RtHostile, TablesWhoseMeaningIsWrongAreRefusedNamingTheField) {
     c.section<float>(SPZ_SECTION_AXIS_INVERSE)[3] *= 2;
     expect_refused(s.write("inverse_interval.spztab", c.sealed()), "axis inverse");
   }
+  {  // A lookup bin naming the wrong interval, one without its node, one with a node not in it:
+     // a lookup would find cells the colour is not in.
+    for (int edit = 0; edit < 3; ++edit) {
+      Crafted c("srgb_reflectance");
+      spz_axis_bin* bins = c.section<spz_axis_bin>(SPZ_SECTION_AXIS_LUT);
+      std::uint64_t with_node = 0;
+      while (bins[with_node].split == INFINITY) ++with_node;
+      if (edit == 0) bins[with_node + 1].interval += 1;
+      if (edit == 1) bins[with_node].split = INFINITY;
+      if (edit == 2) bins[with_node + 1].split = bins[with_node].split;
+      expect_refused(s.write("lookup.spztab", c.sealed()), "axis lookup entry");
+    }
+  }
   for (const char* name : {"srgb_reflectance", "srgb_emission"}) {
     SCOPED_TRACE(name);
     Crafted c(name);

@@ -20,6 +20,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <thread>
@@ -52,9 +53,11 @@ std::vector<TableCase> cases() {
   return {{"srgb_reflectance", test::kRec709ToXyz, true},
           {"rec2020_reflectance", test::kRec2020ToXyz, true},
           {"acescg_reflectance", test::acescg_to_xyz_d65(), true},
+          {"aces2065_reflectance", test::aces2065_to_xyz_d65(), true},
           {"srgb_emission", test::kRec709ToXyz, false},
           {"rec2020_emission", test::kRec2020ToXyz, false},
-          {"acescg_emission", test::acescg_to_xyz_d65(), false}};
+          {"acescg_emission", test::acescg_to_xyz_d65(), false},
+          {"aces2065_emission", test::aces2065_to_xyz_d65(), false}};
 }
 
 // The conventions of docs/DESIGN.md §3 from the test's own integration: the weight of each
@@ -345,6 +348,40 @@ TEST_P(RtTable, EveryFeasibleColourIsExactAndBounded) {
   EXPECT_EQ(r.wrong_status, 0u);
   EXPECT_LE(r.worst, 1e-5);
   spz_table_free(table);
+}
+
+// The share of the RGB unit cube a table is exact for, as `spectralize table -v` states it
+// (the fixture keeps each table's report), is the share of the cube's 32^3 cell centres inside
+// the test's own gamut; colours within 1e-6 of its boundary may count either way.
+TEST_P(RtTable, TheExactShareOfTheCubeItStatesIsTheGamutsShare) {
+  const TableCase& tc = GetParam();
+  std::ifstream log(std::string(SPECTRALIZE_RT_TABLES) + "/" + tc.name + ".log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  const std::string key = "exact for ";
+  const std::size_t at = text.find(key);
+  ASSERT_NE(at, std::string::npos) << text;
+  const double stated = std::stod(text.substr(at + key.size())) / 100;
+  EXPECT_NE(
+      text.find(tc.reflectance ? "inside the reflectance solid" : "inside the spectral locus"),
+      std::string::npos)
+      << text;
+  const Conventions cv(tc.reflectance, tc.rgb_to_xyz);
+  const TestGamut gamut(cv.w, tc.reflectance);
+  const int n = 32;
+  std::size_t inside = 0, near = 0;
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) {
+        const float rgb[3] = {(r + 0.5f) / n, (g + 0.5f) / n, (b + 0.5f) / n};
+        const double d = gamut.distance(cv.target(rgb));
+        inside += d <= 0;
+        near += std::abs(d) <= 1e-6;
+      }
+  const double share = static_cast<double>(inside) / (n * n * n);
+  std::printf("  %s: exact for %.2f%% of the cube (stated %.1f%%; %zu centres within 1e-6)\n",
+              tc.name.c_str(), 100 * share, 100 * stated, near);
+  // The statement's rounding (0.05%) and the boundary's undecided centres.
+  EXPECT_NEAR(stated, share, 0.0005 + static_cast<double>(near) / (n * n * n));
 }
 
 INSTANTIATE_TEST_SUITE_P(Spaces, RtTable, testing::ValuesIn(cases()),
@@ -694,11 +731,12 @@ TEST(RtFile, BadFilesAreRefusedWithAMessage) {
   expect_refused(write("long.spztab", good + "x"), "extra bytes");
   expect_refused(write("magic.spztab", "PNG" + good.substr(3)), "not a spectralize table");
   // Another version, older (1: its checksum had a wrong FNV-1a offset basis; 2: no band
-  // weights) or newer.
-  const std::uint32_t v1 = 1, v2 = 2, v4 = 4, swapped = 0x04030201u;
+  // weights; 3: bins without their nodes) or newer.
+  const std::uint32_t v1 = 1, v2 = 2, v3 = 3, v5 = 5, swapped = 0x04030201u;
   expect_refused(write("version1.spztab", patched(8, &v1, 4, true)), "make the table again");
   expect_refused(write("version2.spztab", patched(8, &v2, 4, true)), "format version 2");
-  expect_refused(write("version4.spztab", patched(8, &v4, 4, true)), "format version 4");
+  expect_refused(write("version3.spztab", patched(8, &v3, 4, true)), "make the table again");
+  expect_refused(write("version5.spztab", patched(8, &v5, 4, true)), "format version 5");
   expect_refused(write("endian.spztab", patched(12, &swapped, 4, true)), "byte order");
   // Flipped bytes anywhere: the checksum.
   for (std::size_t at : {std::size_t(40), std::size_t(700), good.size() / 2, good.size() - 3}) {

@@ -161,7 +161,7 @@ TEST(TableFile, TheHeaderSaysWhatTheTableWasMadeFrom) {
     const Made& m = made(mode);
     const spz_file_header& h = Opened(m.bytes).h;
     EXPECT_EQ(std::string(h.magic, 8), "SPZTABLE");
-    EXPECT_EQ(h.version, 3u);  // rt_format.h: version 3, with the band weights
+    EXPECT_EQ(h.version, 4u);  // rt_format.h: version 4, with the band weights and bins' nodes
     EXPECT_EQ(h.byte_order, 0x01020304u);
     EXPECT_EQ(std::memcmp(m.bytes.data() + 12, "\x04\x03\x02\x01", 4), 0);  // little-endian
     EXPECT_EQ(h.header_size, 1024u);
@@ -209,6 +209,50 @@ TEST(TableFile, TheHeaderSaysWhatTheTableWasMadeFrom) {
   }
 }
 
+// The axis lookup (rt_format.h, spz_axis_bin): for every position of an axis' range — each
+// node, the floats either side of it, and a fine sweep — the bin's interval plus (v >= split) is
+// the interval the sorted positions say (oracle: std::upper_bound), in one step.
+TEST(TableFile, EveryPositionFindsItsIntervalInOneStepOfTheLookup) {
+  for (Mode mode : {Mode::reflectance, Mode::emission}) {
+    SCOPED_TRACE(std::string(to_string(mode)));
+    const Made& m = made(mode);
+    const Opened o(m.bytes);
+    const spz_file_header& h = o.h;
+    const spz_axis_bin* bins = o.section<spz_axis_bin>(SPZ_SECTION_AXIS_LUT);
+    const int dims = mode == Mode::reflectance ? 3 : 2;
+    const float* inverses = o.section<float>(SPZ_SECTION_AXIS_INVERSE);
+    for (int a = 0; a < dims; ++a) {
+      const float* p = o.section<float>(SPZ_SECTION_AXIS_X + a);
+      const std::uint32_t n = h.nodes[a];
+      const float* inverse = inverses;
+      inverses += n - 1;
+      std::vector<float> probes;
+      for (std::uint32_t k = 0; k < n; ++k)
+        probes.insert(probes.end(),
+                      {std::nextafter(p[k], -INFINITY), p[k], std::nextafter(p[k], INFINITY)});
+      for (int i = 0; i <= 10000; ++i) probes.push_back(p[0] + (p[n - 1] - p[0]) * (i / 1e4f));
+      int checked = 0;
+      for (const float v : probes) {
+        if (!(v >= p[0] && v <= p[n - 1])) continue;
+        const std::uint32_t want = std::min<std::uint32_t>(
+            static_cast<std::uint32_t>(std::upper_bound(p, p + n, v) - p) - 1, n - 2);
+        float b = (v - h.lut_origin[a]) * h.lut_inverse_bin[a];
+        b = std::min(std::max(b, 0.0f), static_cast<float>(h.lut_size[a] - 1));
+        const spz_axis_bin& e = bins[static_cast<std::uint32_t>(b)];
+        EXPECT_EQ(e.interval + (v >= e.split ? 1u : 0u), want) << "axis " << a << " at " << v;
+        // Past the split the next bin holds the interval's start and inverse length.
+        const spz_axis_bin& used = v >= e.split ? (&e)[1] : e;
+        EXPECT_EQ(used.interval, want) << "axis " << a << " at " << v;
+        EXPECT_EQ(used.position, p[want]) << "axis " << a << " at " << v;
+        EXPECT_EQ(used.inverse, inverse[want]) << "axis " << a << " at " << v;
+        ++checked;
+      }
+      EXPECT_GT(checked, 10000);
+      bins += h.lut_size[a];
+    }
+  }
+}
+
 TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
   for (Mode mode : {Mode::reflectance, Mode::emission}) {
     SCOPED_TRACE(std::string(to_string(mode)));
@@ -219,6 +263,7 @@ TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
     // In order after the header, each at a multiple of 64, none overlapping, the last ending
     // the file; an empty section has offset 0. Element sizes from rt_format.h.
     auto element = [](int k) {
+      if (k == SPZ_SECTION_AXIS_LUT) return 16u;
       return k == SPZ_SECTION_BOUNDARY_POSITIONS || k == SPZ_SECTION_LOCUS_PLANES ||
                      k == SPZ_SECTION_SOLID_PLANES || k == SPZ_SECTION_BAND_WEIGHTS
                  ? 8u

@@ -122,6 +122,12 @@ inline Mat3 acescg_to_xyz_d65() {
   return matmul(bradford(xyz_from_xy(0.32168, 0.33767), d65_white()), ap1);
 }
 
+/// ACES2065-1 (AP0 primaries, the ACES white) to XYZ adapted to D65 by Bradford, as ACEScg.
+inline Mat3 aces2065_to_xyz_d65() {
+  const Mat3 ap0 = rgb_to_xyz(0.7347, 0.2653, 0.0, 1.0, 0.0001, -0.0770, 0.32168, 0.33767);
+  return matmul(bradford(xyz_from_xy(0.32168, 0.33767), d65_white()), ap0);
+}
+
 // --- The reference integration of docs/DESIGN.md §3, written from its definition ---
 
 /// Value at `nm` of the piecewise-linear spectrum through `values` at start + i*step, zero
