@@ -1,8 +1,9 @@
 // In place of Mitsuba 3's srgb_model_fetch / srgb_model_eval (mitsuba/render/srgb.h) in its
-// bitmap texture and environment emitter (spectral variants). Mitsuba turns every texel into
-// sigmoid coefficients at load and interpolates the coefficients; with rt the texels stay
-// linear RGB (as the rgb variants store them), are filtered as RGB, and the filtered colour is
-// fetched: its spectrum is exact for the colour the filter produced.
+// bitmap texture and environment emitter (spectral variants). Mitsuba stores each texel's
+// sigmoid coefficients and, filtering bilinearly, evaluates the spectra of the four texels and
+// blends the spectra. With rt the texels stay linear RGB (as the rgb variants store them): the
+// RGB is filtered and the filtered colour fetched once, whose spectrum is exact for that colour
+// (blending the four texels' rt spectra would give the same colour at four fetches).
 // Usage: mitsuba_texture REFLECTANCE.spztab EMISSION.spztab
 #include <spectralize/rt.h>
 

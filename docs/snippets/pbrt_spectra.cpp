@@ -23,6 +23,7 @@ struct RtColorSpace {
 
 class RtSpectrum {
  public:
+  RtSpectrum() = default;  // the zero spectrum: every value 0, MaxValue() 0
   RtSpectrum(const spz_table* table, const float rgb[3]) : status_(spz_fetch(table, rgb, &s_)) {}
   float operator()(float lambda) const { return spz_eval(&s_, lambda); }
   SampledSpectrum Sample(const SampledWavelengths& lambda) const {
@@ -30,11 +31,13 @@ class RtSpectrum {
     spz_eval4(&s_, lambda.lambda.data(), out.v.data());
     return out;
   }
+  // pbrt's MaxValue() (light bounds, medium majorants): bounds every value operator() returns.
+  float MaxValue() const { return spz_spectrum_max(&s_); }
   int Status() const { return status_; }  // SPZ_MAPPED: the RGB was outside the gamut
 
  private:
-  spz_spectrum s_;
-  int status_;
+  spz_spectrum s_ = {};  // zero-initialised: the zero spectrum of no table
+  int status_ = SPZ_INVALID;
 };
 
 // pbrt's CIE_Y_integral: what SpectrumToPhotometric() returns for an RGBIlluminantSpectrum
@@ -69,9 +72,14 @@ int main(int argc, char** argv) {
   const float white[3] = {1.0f, 1.0f, 1.0f};
   const SampledSpectrum flat = RtSpectrum(cs.unbounded, white).Sample(lambda);
 
-  bool ok = true;
+  // A medium's majorant from MaxValue(); a default-constructed spectrum is zero everywhere.
+  const RtSpectrum sigma_a(cs.unbounded, light_rgb), none;
+  const SampledSpectrum absorbed = sigma_a.Sample(lambda), nothing = none.Sample(lambda);
+
+  bool ok = none.MaxValue() == 0.0f;
   for (int i = 0; i < 4; ++i) {
     ok = ok && albedo.v[i] >= 0 && albedo.v[i] <= 1 && emitted.v[i] >= 0;
+    ok = ok && absorbed.v[i] <= sigma_a.MaxValue() && nothing.v[i] == 0.0f;
     ok = ok && flat.v[i] > 0.999f && flat.v[i] < 1.001f;
     std::printf("%.0f nm: albedo %.4f, light %.4f, unbounded white %.4f\n", lambda.lambda[i],
                 albedo.v[i], scale * emitted.v[i], flat.v[i]);

@@ -8,6 +8,8 @@ Three kinds of blocks are examples:
   ``` blocks of "$ "  each "$ command" is run; the lines after it, up to the next "$ ", are its
                       output (stdout and stderr together) and must match.
 
+A block inside a list item (its fence indented) is an example too, read without the indent.
+
 Matching: timings ("1.18 s", "0.004") are not compared where the README marks them as such
 (a number followed by " s" in a summary line); a line ending in "..." or "... (abridged)" matches
 any line that starts the same way; a line "..." skips any lines; JSON output is compared key by
@@ -29,8 +31,13 @@ TIMING = re.compile(r"\b\d+(\.\d+)? s\b")
 
 def blocks(text):
     """(kind, lines) for the example blocks: 'sh', 'python', 'text' or 'dollar'."""
-    out, lines, kind, inside = [], [], None, False
+    out, lines, kind, inside, indent = [], [], None, False, 0
     for line in text.split("\n"):
+        # A fence may be indented (a block inside a list item); its lines lose that indent.
+        if line.lstrip(" ").startswith("```") and (inside or len(line) - len(line.lstrip(" ")) < 4):
+            if not inside:
+                indent = len(line) - len(line.lstrip(" "))
+            line = line[indent:] if line[:indent].strip() == "" else line
         if line.startswith("```"):
             if inside:
                 if kind in ("sh", "python", "text"):
@@ -42,7 +49,7 @@ def blocks(text):
                 inside, kind = True, line[3:].strip()
             continue
         if inside:
-            lines.append(line)
+            lines.append(line[indent:] if line[:indent].strip() == "" else line)
     return out
 
 
