@@ -259,8 +259,6 @@ class TableView {
   bool fast_blend(const float u[3], Spectrum& s) const noexcept;
   struct AxisFast {  // one axis' lookup, hot in fetch()
     const spz_axis_bin* lut;
-    const float* p;
-    const float* inv;
     float origin, inv_bin, last_bin, lo, hi;
     std::uint32_t last;  // last_bin as an integer
   };
@@ -276,12 +274,16 @@ class TableView {
     // slot offsets of the Kuhn walk's first vertex and of its second, and the axes from the
     // largest fraction to the smallest.
     std::uint32_t first[8] = {}, second[8] = {};
+    std::uint32_t far = 0;  // the node offset of the cell's highest corner: 1 + nx + nx * ny
     std::uint8_t order[8][3] = {};
   };
   Lanes lanes_;
 #endif
   bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s, bool nearest,
                   bool* reproduced) const noexcept;
+  // A fast lookup's boundary cell, named by its code and its lowest node (cold).
+  bool boundary_of_node(std::uint32_t code, std::uint32_t node, const double u[3],
+                        Spectrum& s) const noexcept;
   bool boundary_blend(std::uint32_t b, const int i[3], const double u[3], Spectrum& s, bool nearest,
                       bool* reproduced) const noexcept;
   bool close_to(const double u[3], const double v[3]) const noexcept;
@@ -301,6 +303,7 @@ class TableView {
   bool check_meaning(char* error, std::size_t error_size) const noexcept;
 
   std::uint32_t n_[3] = {0, 0, 0}, lut_size_[3] = {0, 0, 0}, dims_ = 3;
+  std::uint32_t stride_[3] = {0, 0, 0};  // each axis' node stride: 1, nx, nx * ny
   float lut_origin_[3] = {0, 0, 0}, lut_inv_[3] = {0, 0, 0};
   const float* axis_[3] = {nullptr, nullptr, nullptr};
   const float* inverse_[3] = {nullptr, nullptr, nullptr};
@@ -369,7 +372,7 @@ namespace detail {
 // Sample k of spectrum vertex v of s (a node spectrum, or a boundary vertex's 0/1 mask with two
 // samples of their own).
 inline float vertex_value(const TableView& t, std::uint32_t v, std::uint32_t k) noexcept {
-  if (!(v & SPZ_BOUNDARY_BIT)) return t.spectra_[static_cast<std::size_t>(v) * t.bands_ + k];
+  if (!(v & SPZ_BOUNDARY_BIT)) return t.spectra_[static_cast<std::size_t>(v) + k];
   const std::uint32_t b = v & ~SPZ_BOUNDARY_BIT, pick = t.bpick_[b];
   if (k == (pick & 0xFFFFu)) return t.bvalue_[2 * static_cast<std::size_t>(b)];
   if (k == (pick >> 16)) return t.bvalue_[2 * static_cast<std::size_t>(b) + 1];
@@ -456,7 +459,7 @@ SPZ_HOT_INLINE void eval4(const Spectrum& s, const float lambda_nm[4], float out
     // from the vertices to the values.
     __m128 lo[4], hi[4];
     for (int v = 0; v < 4; ++v) {
-      const float* p = t.spectra_ + static_cast<std::size_t>(s.vertex[v]) * t.bands_;
+      const float* p = t.spectra_ + s.vertex[v];  // the spectrum's offset (rt_format.h)
       const __m128 w = _mm_set1_ps(s.weight[v]);
       lo[v] = _mm_mul_ps(w, _mm_loadh_pi(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(p + k0)),
                                          reinterpret_cast<const __m64*>(p + k1)));
@@ -499,10 +502,10 @@ inline void samples(const Spectrum& s, float* out) noexcept {
   const std::uint32_t n = t.bands_;
   const bool clamp = (s.flags & 2u) != 0;
   if (!(s.flags & 1u)) {
-    const float* p0 = t.spectra_ + static_cast<std::size_t>(s.vertex[0]) * n;
-    const float* p1 = t.spectra_ + static_cast<std::size_t>(s.vertex[1]) * n;
-    const float* p2 = t.spectra_ + static_cast<std::size_t>(s.vertex[2]) * n;
-    const float* p3 = t.spectra_ + static_cast<std::size_t>(s.vertex[3]) * n;
+    const float* p0 = t.spectra_ + s.vertex[0];
+    const float* p1 = t.spectra_ + s.vertex[1];
+    const float* p2 = t.spectra_ + s.vertex[2];
+    const float* p3 = t.spectra_ + s.vertex[3];
     const float w0 = s.weight[0] * s.scale, w1 = s.weight[1] * s.scale;
     const float w2 = s.weight[2] * s.scale, w3 = s.weight[3] * s.scale;
     if (clamp)
@@ -730,13 +733,12 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     if (!std::memchr(strings[k], 0, lengths[k]))
       return say(error, error_size, "%s is not terminated", string_names[k]), false;
   dims_ = reflectance ? 3 : 2;
-  std::uint64_t nodes = 1, cells = 1;
+  std::uint64_t nodes = 1;
   for (int a = 0; a < 3; ++a) {
     const std::uint32_t n = h->nodes[a];
     if (a < static_cast<int>(dims_) ? (n < 2 || n > 65536) : n != 1)
       return say(error, error_size, "bad nodes[%d] %u", a, n), false;
     nodes *= n;
-    cells *= a < static_cast<int>(dims_) ? n - 1 : 1;
     if (!(h->lut_size[a] >= 1 && h->lut_size[a] <= (1u << 20)) ||
         !std::isfinite(h->lut_origin[a]) || !(h->lut_inverse_bin[a] > 0) ||
         !std::isfinite(h->lut_inverse_bin[a]))
@@ -790,11 +792,12 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       {SPZ_SECTION_AXIS_INVERSE, count[SPZ_SECTION_AXIS_INVERSE] == intervals, "one per interval"},
       {SPZ_SECTION_AXIS_LUT, count[SPZ_SECTION_AXIS_LUT] == lut_total + 1,
        "the lut_sizes' sum and one"},
-      {SPZ_SECTION_CELLS, count[SPZ_SECTION_CELLS] == cells, "one per cell"},
+      {SPZ_SECTION_CELLS, count[SPZ_SECTION_CELLS] == nodes, "one per node"},
       {SPZ_SECTION_NODE_SLOTS, count[SPZ_SECTION_NODE_SLOTS] == nodes, "one per node"},
       {SPZ_SECTION_SPECTRA,
-       count[SPZ_SECTION_SPECTRA] % bands == 0 && slots >= 1 && slots < SPZ_BOUNDARY_BIT,
-       "whole spectra of `bands` samples, at least one"},
+       count[SPZ_SECTION_SPECTRA] % bands == 0 && slots >= 1 &&
+           count[SPZ_SECTION_SPECTRA] < SPZ_BOUNDARY_BIT,
+       "whole spectra of `bands` samples, at least one, fewer than 2^31 samples"},
       {SPZ_SECTION_BOUNDARY_CELLS,
        count[SPZ_SECTION_BOUNDARY_CELLS] % 2 == 0 && nbc < SPZ_BOUNDARY_BIT, "pairs"},
       {SPZ_SECTION_SIMPLICES, count[SPZ_SECTION_SIMPLICES] % 4 == 0, "four references each"},
@@ -825,8 +828,11 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   auto u32 = [&](int s) { return static_cast<const std::uint32_t*>(at[s]); };
   auto f64 = [&](int s) { return static_cast<const double*>(at[s]); };
   std::uint64_t inv_at = 0, lut_at = 0;
+  // Each axis' node stride (the nodes fit the file, so these fit 32 bits).
+  const std::uint64_t stride[3] = {1, h->nodes[0], std::uint64_t{h->nodes[0]} * h->nodes[1]};
   for (int a = 0; a < 3; ++a) {
     n_[a] = h->nodes[a];
+    stride_[a] = static_cast<std::uint32_t>(stride[a]);
     axis_[a] = static_cast<const float*>(at[SPZ_SECTION_AXIS_X + a]);
     for (std::uint32_t k = 0; k < n_[a]; ++k)
       if (!std::isfinite(axis_[a][k]) || (k > 0 && !(axis_[a][k] > axis_[a][k - 1])))
@@ -871,7 +877,7 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       const spz_axis_bin& e = lut_[a][b];
       const float position = axis_[a][below];
       const float inverse = n_[a] > 1 && a < static_cast<int>(dims_) ? inverse_[a][below] : 0.0f;
-      if (e.interval != below || std::memcmp(&e.split, &split, sizeof split) != 0 ||
+      if (e.node != below * stride[a] || std::memcmp(&e.split, &split, sizeof split) != 0 ||
           std::memcmp(&e.position, &position, sizeof position) != 0 ||
           std::memcmp(&e.inverse, &inverse, sizeof inverse) != 0)
         return say(error, error_size, "axis lookup entry %u of axis %d is wrong", b, a), false;
@@ -887,8 +893,9 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   }
   slots_ = u32(SPZ_SECTION_NODE_SLOTS);
   for (std::uint64_t k = 0; k < nodes; ++k)
-    if (slots_[k] != SPZ_OUTSIDE && slots_[k] >= slots)
-      return say(error, error_size, "node slot %llu names spectrum %u of %llu",
+    if (slots_[k] != SPZ_OUTSIDE && (slots_[k] % bands != 0 || slots_[k] / bands >= slots))
+      return say(error, error_size,
+                 "node slot %llu is offset %u: not the start of one of the %llu spectra",
                  static_cast<unsigned long long>(k), slots_[k],
                  static_cast<unsigned long long>(slots)),
              false;
@@ -965,14 +972,22 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
                static_cast<unsigned long long>(next_simplex),
                static_cast<unsigned long long>(nsimplex)),
            false;
-  // Cells: each boundary cell named by exactly one cell, in order (as the writer numbers them).
+  // Cells: each boundary cell named by exactly one cell, in order (as the writer numbers them);
+  // none at an axis' last node.
   cells_ = u32(SPZ_SECTION_CELLS);
-  const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
   std::uint64_t next_boundary = 0;
-  for (std::uint64_t c = 0; c < cells; ++c) {
+  for (std::uint64_t c = 0; c < nodes; ++c) {
     const std::uint32_t code = cells_[c];
-    const int i[3] = {static_cast<int>(c % cx), static_cast<int>((c / cx) % cy),
-                      static_cast<int>(c / (static_cast<std::uint64_t>(cx) * cy))};
+    const int i[3] = {static_cast<int>(c % n_[0]), static_cast<int>((c / n_[0]) % n_[1]),
+                      static_cast<int>(c / stride[2])};
+    const bool last = static_cast<std::uint32_t>(i[0]) + 1 == n_[0] ||
+                      static_cast<std::uint32_t>(i[1]) + 1 == n_[1] ||
+                      (reflectance && static_cast<std::uint32_t>(i[2]) + 1 == n_[2]);
+    if (last && code != SPZ_OUTSIDE)
+      return say(error, error_size,
+                 "the cell code of node %llu, the last of an axis, is not SPZ_OUTSIDE",
+                 static_cast<unsigned long long>(c)),
+             false;
     if (code == SPZ_OUTSIDE) continue;
     if (code == 0) {
       for (std::uint32_t k = 0; k < corners; ++k)
@@ -1021,15 +1036,9 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
              false;
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
   for (int a = 0; a < 3; ++a)
-    fast_[a] = {lut_[a],
-                axis_[a],
-                inverse_[a] ? inverse_[a] : axis_[a],
-                lut_origin_[a],
-                lut_inv_[a],
-                static_cast<float>(lut_size_[a] - 1),
-                axis_[a][0],
-                axis_[a][n_[a] - 1],
-                lut_size_[a] - 1};
+    fast_[a] = {
+        lut_[a],     lut_origin_[a],      lut_inv_[a],     static_cast<float>(lut_size_[a] - 1),
+        axis_[a][0], axis_[a][n_[a] - 1], lut_size_[a] - 1};
 #if defined(__SSE2__)
   if (reflectance) {
     for (int a = 0; a < 3; ++a) {
@@ -1039,6 +1048,7 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       lanes_.lut_at[a] = static_cast<std::int32_t>(lut_[a] - lut_[0]);
     }
     const std::uint32_t step[3] = {1, n_[0], n_[0] * n_[1]};
+    lanes_.far = step[0] + step[1] + step[2];
     for (std::uint32_t code = 0; code < 8; ++code) {
       // Each axis' rank among the three (ties by axis order), as fast_blend<3> ranks them;
       // the two orders no floats have (f1 > f0, f2 > f1, f0 >= f2) get the axes' own order.
@@ -1104,7 +1114,7 @@ inline bool TableView::check_meaning(char* error, std::size_t error_size) const 
     if (slot == SPZ_OUTSIDE) continue;
     double p[3];
     position(n, p);
-    const float* s = spectra_ + static_cast<std::size_t>(slot) * bands_;
+    const float* s = spectra_ + slot;
     double got[3] = {0, 0, 0}, spread = 0;
     for (std::uint32_t k = 0; k < bands_; ++k)
       for (int c = 0; c < 3; ++c) {
@@ -1179,7 +1189,8 @@ inline bool TableView::locate(const double u[3], int i[3], double f[3], bool cla
     if (!(v >= p[0] && v <= p[n - 1])) return false;
     std::uint32_t k = lut_[a][detail::axis_bin(static_cast<float>(v), lut_origin_[a], lut_inv_[a],
                                                static_cast<float>(lut_size_[a] - 1))]
-                          .interval;
+                          .node /
+                      stride_[a];
     while (k > 0 && v < p[k]) --k;
     while (k + 2 < n && v >= p[k + 1]) ++k;
     i[a] = static_cast<int>(k);
@@ -1201,6 +1212,13 @@ inline bool TableView::close_to(const double u[3], const double v[3]) const noex
     diff = {v[0] - u[0], v[1] - u[1], -(v[0] - u[0]) - (v[1] - u[1])};
   }
   return detail::max_abs(diff) <= 1e-6 * detail::max_abs(want);
+}
+
+SPZ_COLD inline bool TableView::boundary_of_node(std::uint32_t code, std::uint32_t node,
+                                                 const double u[3], Spectrum& s) const noexcept {
+  const int i[3] = {static_cast<int>(node % n_[0]), static_cast<int>((node / n_[0]) % n_[1]),
+                    static_cast<int>(node / stride_[2])};
+  return boundary_blend(code & ~SPZ_BOUNDARY_BIT, i, u, s, false, nullptr);
 }
 
 SPZ_COLD inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], const double u[3],
@@ -1336,10 +1354,9 @@ SPZ_COLD inline bool TableView::boundary_blend(std::uint32_t b, const int i[3], 
 
 inline bool TableView::cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s,
                                   bool nearest, bool* reproduced) const noexcept {
-  const std::uint32_t cx = n_[0] - 1, cy = n_[1] - 1;
   const std::uint32_t code =
-      cells_[static_cast<std::uint32_t>(i[0]) +
-             cx * (static_cast<std::uint32_t>(i[1]) + cy * static_cast<std::uint32_t>(i[2]))];
+      cells_[static_cast<std::uint32_t>(i[0]) + stride_[1] * static_cast<std::uint32_t>(i[1]) +
+             stride_[2] * static_cast<std::uint32_t>(i[2])];
   if (code == 0) {
     // Kuhn's simplices: from the lower corner along the axes in decreasing order of the
     // fractional coordinates; the weights are the gaps between them.
@@ -1372,14 +1389,13 @@ inline bool TableView::cell_blend(const int i[3], const double f[3], const doubl
 // float; boundary cells in double (boundary_blend).
 template <int dims>
 inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept {
-  std::uint32_t i[3] = {0, 0, 0};
+  std::uint32_t base = 0;  // the cell's lowest node: the axes' offsets added (rt_format.h)
   float f[3] = {0, 0, 0};
   bool inside = true;
   for (int a = 0; a < dims; ++a) {
     const AxisFast& x = fast_[a];
     const float v = u[a];
     inside &= (v >= x.lo) & (v <= x.hi);  // false for NaN
-    // One step: the bin's interval, or the next when v is at or above the node inside it.
 #if defined(__SSE2__)
     // The bin clamped after SSE's defined conversion (NaN and any float out of int32 range
     // give 0x80000000): the same bin as axis_bin for every v >= origin, a valid one for others.
@@ -1389,22 +1405,22 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
 #else
     const std::uint32_t bin = detail::axis_bin(v, x.origin, x.inv_bin, x.last_bin);
 #endif
-    const spz_axis_bin e = x.lut[bin];
-    const std::uint32_t k = e.interval + static_cast<std::uint32_t>(v >= e.split);
-    i[a] = k;
-    // v >= p[k] for v inside (the lookup's invariant): only rounding can pass 1.
-    f[a] = std::min((v - x.p[k]) * x.inv[k], 1.0f);
+    // One step: the bin, or the next when v is at or above the node inside it (the final
+    // entry of the lookup section makes the next one readable for the last bin).
+    const spz_axis_bin* e = x.lut + bin;
+    e += v >= e->split;
+    base += e->node;
+    // v >= position for v inside (the lookup's invariant): only rounding can pass 1.
+    f[a] = std::min((v - e->position) * e->inverse, 1.0f);
   }
-  const std::uint32_t nx = n_[0], nxy = n_[0] * n_[1];
-  const std::uint32_t code = cells_[i[0] + (nx - 1) * (i[1] + (n_[1] - 1) * i[2])];
+  const std::uint32_t nx = n_[0], nxy = stride_[2];
+  const std::uint32_t code = cells_[base];
   if (!inside | (code != 0)) {  // one branch for the common case
     if (!inside || code == SPZ_OUTSIDE) return false;
-    const int ii[3] = {static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])};
     const double du[3] = {u[0], u[1], dims == 3 ? u[2] : 0.0};
-    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false, nullptr);
+    return boundary_of_node(code, base, du, s);
   }
   // Kuhn: the axes in decreasing order of their fractions; the weights are the gaps.
-  const std::uint32_t base = i[0] + nx * i[1] + nxy * i[2];
   s.flags &= ~1u;
   if constexpr (dims == 2) {
     const bool xy = f[0] >= f[1];
@@ -1459,9 +1475,9 @@ inline bool TableView::fast_blend_sse(const float rgb[3], Spectrum& s) const noe
   const __m128i bin =
       _mm_add_epi32(_mm_andnot_si128(_mm_cmplt_epi32(top, _mm_setzero_si128()), top),
                     _mm_load_si128(reinterpret_cast<const __m128i*>(L.lut_at)));
-  // Each axis' bin and the next one (spz_axis_bin: interval, split, position, inverse), in
-  // lanes: the interval and the position and inverse below the split, and above it (the next
-  // bin's), chosen by v >= split (a true compare is -1, and all bits).
+  // Each axis' bin and the next one (spz_axis_bin: node, split, position, inverse), in lanes:
+  // the node offset, position and inverse below the split, or above it (the next bin's),
+  // chosen by v >= split (a true compare is all bits).
   const spz_axis_bin* lut = lut_[0];
   const spz_axis_bin* b0 = lut + _mm_cvtsi128_si32(bin);
   const spz_axis_bin* b1 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55));
@@ -1471,27 +1487,24 @@ inline bool TableView::fast_blend_sse(const float rgb[3], Spectrum& s) const noe
   };
   __m128 e0 = load(b0), e1 = load(b1), e2 = load(b2), e3 = zero;
   __m128 n0 = load(b0 + 1), n1 = load(b1 + 1), n2 = load(b2 + 1), n3 = zero;
-  _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // intervals, splits, positions, inverses
-  _MM_TRANSPOSE4_PS(n0, n1, n2, n3);  // the next bins': positions in n2, inverses in n3
+  _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // node offsets, splits, positions, inverses
+  _MM_TRANSPOSE4_PS(n0, n1, n2, n3);  // the next bins'
   const __m128 upper = _mm_cmpge_ps(v, e1);
-  const __m128i k = _mm_sub_epi32(_mm_castps_si128(e0), _mm_castps_si128(upper));
+  const __m128i k = _mm_castps_si128(_mm_or_ps(_mm_and_ps(upper, n0), _mm_andnot_ps(upper, e0)));
   const __m128 p = _mm_or_ps(_mm_and_ps(upper, n2), _mm_andnot_ps(upper, e2));
   const __m128 inv = _mm_or_ps(_mm_and_ps(upper, n3), _mm_andnot_ps(upper, e3));
-  const std::uint32_t k0 = static_cast<std::uint32_t>(_mm_cvtsi128_si32(k));
-  const std::uint32_t k1 =
-      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 0x55)));
-  const std::uint32_t k2 =
-      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 0xAA)));
+  // The cell's lowest node: the three offsets added (lane 3 is 0).
+  const __m128i k2 = _mm_add_epi32(k, _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 0, 3, 2)));
+  const std::uint32_t base =
+      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_add_epi32(k2, _mm_shuffle_epi32(k2, 0x55))));
   // In [0, 1] for v inside (v >= p, the lookup's invariant) but for rounding above 1, which
   // the first weight absorbs below (off the path to the vertices).
   const __m128 f = _mm_mul_ps(_mm_sub_ps(v, p), inv);
-  const std::uint32_t nx = n_[0], ny = n_[1];
-  const std::uint32_t code = cells_[k0 + (nx - 1) * (k1 + (ny - 1) * k2)];
+  const std::uint32_t code = cells_[base];
   if (!inside | (code != 0)) {  // one branch for the common case
     if (!inside || code == SPZ_OUTSIDE) return false;
-    const int ii[3] = {static_cast<int>(k0), static_cast<int>(k1), static_cast<int>(k2)};
     const double du[3] = {rgb[0], rgb[1], rgb[2]};
-    return boundary_blend(code & ~SPZ_BOUNDARY_BIT, ii, du, s, false, nullptr);
+    return boundary_of_node(code, base, du, s);
   }
   // Kuhn: the order of the fractions (f1 > f0, f2 > f0, f2 > f1 in bits 0-2), its walk and
   // the weights, the gaps between the sorted fractions (ordered floats: >= 0 bit for bit).
@@ -1502,12 +1515,11 @@ inline bool TableView::fast_blend_sse(const float rgb[3], Spectrum& s) const noe
   _mm_store_ps(fa, f);
   const std::uint8_t* by = L.order[order];
   const float hi = fa[by[0]], mid = fa[by[1]], lo = fa[by[2]];
-  const std::uint32_t base = k0 + nx * (k1 + ny * k2);
   s.flags &= ~1u;
   s.vertex[0] = slots_[base];
   s.vertex[1] = slots_[base + L.first[order]];
   s.vertex[2] = slots_[base + L.second[order]];
-  s.vertex[3] = slots_[base + 1 + nx + nx * ny];
+  s.vertex[3] = slots_[base + L.far];
   s.weight[0] = std::max(1 - hi, 0.0f);
   s.weight[1] = hi - mid;
   s.weight[2] = mid - lo;

@@ -44,20 +44,22 @@ enum spz_file_mode { SPZ_MODE_EMISSION = 0, SPZ_MODE_REFLECTANCE = 1 };
 
 /* The sections, in file order. Element types and counts: */
 enum spz_section {
-  SPZ_SECTION_AXIS_X = 0,         /* float[nodes[0]]: node positions, strictly increasing */
-  SPZ_SECTION_AXIS_Y = 1,         /* float[nodes[1]] */
-  SPZ_SECTION_AXIS_Z = 2,         /* float[nodes[2]] (emission: one position) */
-  SPZ_SECTION_AXIS_INVERSE = 3,   /* float[sum of nodes[a]-1]: 1 / interval length, by axis */
-  SPZ_SECTION_AXIS_LUT = 4,       /* spz_axis_bin[sum of lut_size[a]], by axis, then one of
-                                     zeros (a lookup reads the bin after its own) */
-  SPZ_SECTION_CELLS = 5,          /* uint32 per cell, x fastest: 0 inside, SPZ_OUTSIDE, or
-                                     SPZ_BOUNDARY_BIT | boundary cell index */
-  SPZ_SECTION_NODE_SLOTS = 6,     /* uint32 per node, x fastest: spectrum slot or SPZ_OUTSIDE */
-  SPZ_SECTION_SPECTRA = 7,        /* float[slots * bands]: node spectra, slot-major */
-  SPZ_SECTION_BOUNDARY_CELLS = 8, /* uint32[2 per boundary cell]: first simplex, count */
-  SPZ_SECTION_SIMPLICES = 9,      /* uint32[4 per simplex]: a corner of the cell (bit 0 x,
-                                     bit 1 y, bit 2 z upper) or SPZ_BOUNDARY_BIT | boundary
-                                     vertex; triangles repeat their first vertex */
+  SPZ_SECTION_AXIS_X = 0,              /* float[nodes[0]]: node positions, strictly increasing */
+  SPZ_SECTION_AXIS_Y = 1,              /* float[nodes[1]] */
+  SPZ_SECTION_AXIS_Z = 2,              /* float[nodes[2]] (emission: one position) */
+  SPZ_SECTION_AXIS_INVERSE = 3,        /* float[sum of nodes[a]-1]: 1 / interval length, by axis */
+  SPZ_SECTION_AXIS_LUT = 4,            /* spz_axis_bin[sum of lut_size[a]], by axis, then one of
+                                          zeros (a lookup reads the bin after its own) */
+  SPZ_SECTION_CELLS = 5,               /* uint32 per node, x fastest: the cell whose lowest corner
+                                          it is, 0 inside, SPZ_OUTSIDE, or SPZ_BOUNDARY_BIT | boundary
+                                          cell index (SPZ_OUTSIDE at an axis' last node: no cell) */
+  SPZ_SECTION_NODE_SLOTS = 6,          /* uint32 per node, x fastest: the offset of its spectrum in
+                                          SPECTRA (slot * bands) or SPZ_OUTSIDE */
+  SPZ_SECTION_SPECTRA = 7,             /* float[slots * bands]: node spectra, slot-major */
+  SPZ_SECTION_BOUNDARY_CELLS = 8,      /* uint32[2 per boundary cell]: first simplex, count */
+  SPZ_SECTION_SIMPLICES = 9,           /* uint32[4 per simplex]: a corner of the cell (bit 0 x,
+                                          bit 1 y, bit 2 z upper) or SPZ_BOUNDARY_BIT | boundary
+                                          vertex; triangles repeat their first vertex */
   SPZ_SECTION_BOUNDARY_POSITIONS = 10, /* double[3 per boundary vertex]: table coordinates */
   SPZ_SECTION_BOUNDARY_MASKS = 11,     /* uint32[mask_words per boundary vertex]: samples at 1 */
   SPZ_SECTION_BOUNDARY_PICKS = 12,     /* uint32 per boundary vertex: i | j << 16 */
@@ -71,15 +73,18 @@ enum spz_section {
 };
 
 /* One bin of an axis' lookup. A position v falls in bin
- * b = (uint32_t)min(max((v - lut_origin) * lut_inverse_bin, 0), lut_size - 1), in float; its
- * interval is `interval` + (v >= split). `split` is the one interior node (positions 1 to
- * nodes - 2) whose bin is b, or +infinity; `interval` counts the interior nodes of lower bins;
- * `position` and `inverse` are that interval's start and 1 / length (the axis' and the inverse
- * section's values; 0 for an axis of one node). Bins are no wider than half the shortest
- * interval, so no bin holds two nodes, and the bin after one with a node starts in the next
- * interval: a lookup reads both bins at once and has the fraction without a further step. */
+ * b = (uint32_t)min(max((v - lut_origin) * lut_inverse_bin, 0), lut_size - 1), in float. `split`
+ * is the one interior node (positions 1 to nodes - 2) whose bin is b, or +infinity; below it v
+ * lies in the interval k = the number of interior nodes of lower bins, at or above it in k + 1,
+ * whose entries are the next bin's (which starts in that interval). `node` is k times the
+ * axis' node stride (1, nodes[0], nodes[0] * nodes[1]): the offsets of the three axes add up
+ * to the index of the cell's lowest node, in CELLS and NODE_SLOTS alike. `position` and
+ * `inverse` are the interval's start and 1 / length (the axis' and the inverse section's
+ * values; 0 for an axis of one node). Bins are no wider than half the shortest interval, so no
+ * bin holds two nodes: a lookup reads its bin and the next at once and has the cell and the
+ * fraction without a further step. */
 typedef struct spz_axis_bin {
-  uint32_t interval;
+  uint32_t node;
   float split;
   float position;
   float inverse;

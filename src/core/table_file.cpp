@@ -45,7 +45,7 @@ struct AxisLookup {
   float origin = 0, inverse_bin = 1;
 };
 
-AxisLookup lookup_of(const std::vector<float>& axis, const float* inverse) {
+AxisLookup lookup_of(const std::vector<float>& axis, const float* inverse, std::uint32_t stride) {
   AxisLookup l;
   l.origin = axis.front();
   if (axis.size() < 2) {
@@ -66,7 +66,8 @@ AxisLookup lookup_of(const std::vector<float>& axis, const float* inverse) {
       throw Error("table file: two nodes of an axis fall in one lookup bin");
     l.bins[b].split = axis[j];
     for (std::size_t c = b + 1; c < size; ++c)
-      l.bins[c] = {static_cast<std::uint32_t>(j), INFINITY, axis[j], inverse ? inverse[j] : 0.0f};
+      l.bins[c] = {static_cast<std::uint32_t>(j) * stride, INFINITY, axis[j],
+                   inverse ? inverse[j] : 0.0f};
   }
   return l;
 }
@@ -118,6 +119,12 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
   std::vector<float> axes[3], inverse;
   std::vector<spz_axis_bin> luts;
   const int dims = reflectance ? 3 : 2;
+  const std::size_t nx = table.axis(0).size(), ny = table.axis(1).size();
+  if (table.node_count() * bands >= SPZ_BOUNDARY_BIT)
+    throw Error("table file: more than 2^31 samples of node spectra");
+  // Node strides (rt_format.h): offsets that add up to a node's index, in 32 bits.
+  const std::uint32_t stride[3] = {1, static_cast<std::uint32_t>(nx),
+                                   static_cast<std::uint32_t>(nx * ny)};
   for (int a = 0; a < 3; ++a) {
     for (double v : table.axis(a)) axes[a].push_back(static_cast<float>(v));
     h.nodes[a] = static_cast<std::uint32_t>(axes[a].size());
@@ -126,7 +133,8 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
       for (std::size_t k = 0; k + 1 < axes[a].size(); ++k)
         inverse.push_back(static_cast<float>(1.0 / (table.axis(a)[k + 1] - table.axis(a)[k])));
     const bool has_inverse = a < dims && axes[a].size() > 1;
-    const AxisLookup l = lookup_of(axes[a], has_inverse ? &inverse[first_inverse] : nullptr);
+    const AxisLookup l =
+        lookup_of(axes[a], has_inverse ? &inverse[first_inverse] : nullptr, stride[a]);
     h.lut_size[a] = static_cast<std::uint32_t>(l.bins.size());
     h.lut_origin[a] = l.origin;
     h.lut_inverse_bin[a] = l.inverse_bin;
@@ -138,7 +146,7 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
   std::uint32_t next = 0;
   for (std::size_t n = 0; n < table.node_count(); ++n)
     if (const float* p = table.node_spectrum(n)) {
-      slots[n] = next++;
+      slots[n] = next++ * static_cast<std::uint32_t>(bands);  // the spectrum's offset
       spectra.insert(spectra.end(), p, p + bands);
     }
   // Boundary vertices: cells that meet at a point made it once each; it is stored once (the
@@ -190,6 +198,13 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
         break;
     }
   }
+  // Cells by their lowest node (rt_format.h): a fetch indexes cells and nodes with one offset.
+  std::vector<std::uint32_t> cell_codes(table.node_count(), SPZ_OUTSIDE);
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::size_t x = c % (nx - 1), y = (c / (nx - 1)) % (ny - 1),
+                      z = c / ((nx - 1) * (ny - 1));
+    cell_codes[x + nx * (y + ny * z)] = cells[c];
+  }
   auto planes_of = [](const ConvexGamut& g) {
     std::vector<double> out;
     for (std::size_t f = 0; f < g.facets(); ++f) {
@@ -227,7 +242,7 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
                                          {axes[2].data(), axes[2].size(), 4},
                                          {inverse.data(), inverse.size(), 4},
                                          {luts.data(), luts.size(), sizeof(spz_axis_bin)},
-                                         {cells.data(), cells.size(), 4},
+                                         {cell_codes.data(), cell_codes.size(), 4},
                                          {slots.data(), slots.size(), 4},
                                          {spectra.data(), spectra.size(), 4},
                                          {bcells.data(), bcells.size(), 4},

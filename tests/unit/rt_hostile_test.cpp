@@ -174,7 +174,7 @@ TEST(RtHostile, TablesWhoseMeaningIsWrongAreRefusedNamingTheField) {
       spz_axis_bin* bins = c.section<spz_axis_bin>(SPZ_SECTION_AXIS_LUT);
       std::uint64_t with_node = 0;
       while (bins[with_node].split == INFINITY) ++with_node;
-      if (edit == 0) bins[with_node + 1].interval += 1;
+      if (edit == 0) bins[with_node + 1].node += 1;
       if (edit == 1) bins[with_node].split = INFINITY;
       if (edit == 2) bins[with_node + 1].split = bins[with_node].split;
       expect_refused(s.write("lookup.spztab", c.sealed()), "axis lookup entry");

@@ -772,7 +772,19 @@ TEST(RtFile, BadFilesAreRefusedWithAMessage) {
       write("slot.spztab", patched(h.sections[SPZ_SECTION_NODE_SLOTS].offset +
                                        4 * (h.nodes[0] * (h.nodes[1] / 2) + h.nodes[0] / 3),
                                    &bad_slot, 4, true)),
-      "names spectrum");
+      "not the start of one of the");
+  // A slot offset inside a spectrum (not a multiple of the bands); a cell at an axis' last
+  // node, where no cell is (a fetch there would read nodes of the next row).
+  const std::uint32_t inside_spectrum = 81 * 7 + 1, inside_cell = 0;
+  expect_refused(
+      write("offset.spztab", patched(h.sections[SPZ_SECTION_NODE_SLOTS].offset +
+                                         4 * (h.nodes[0] * (h.nodes[1] / 2) + h.nodes[0] / 3),
+                                     &inside_spectrum, 4, true)),
+      "not the start of one of the");
+  expect_refused(write("edge.spztab", patched(h.sections[SPZ_SECTION_CELLS].offset +
+                                                  4 * (std::uint64_t{h.nodes[0]} - 1),
+                                              &inside_cell, 4, true)),
+                 "the last of an axis");
   // A FIFO is refused at once, never read (it would block).
   const std::string fifo = dir + "/fifo.spztab";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);

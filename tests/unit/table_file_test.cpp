@@ -221,6 +221,7 @@ TEST(TableFile, EveryPositionFindsItsIntervalInOneStepOfTheLookup) {
     const spz_axis_bin* bins = o.section<spz_axis_bin>(SPZ_SECTION_AXIS_LUT);
     const int dims = mode == Mode::reflectance ? 3 : 2;
     const float* inverses = o.section<float>(SPZ_SECTION_AXIS_INVERSE);
+    const std::uint32_t stride[3] = {1, h.nodes[0], h.nodes[0] * h.nodes[1]};
     for (int a = 0; a < dims; ++a) {
       const float* p = o.section<float>(SPZ_SECTION_AXIS_X + a);
       const std::uint32_t n = h.nodes[a];
@@ -239,10 +240,10 @@ TEST(TableFile, EveryPositionFindsItsIntervalInOneStepOfTheLookup) {
         float b = (v - h.lut_origin[a]) * h.lut_inverse_bin[a];
         b = std::min(std::max(b, 0.0f), static_cast<float>(h.lut_size[a] - 1));
         const spz_axis_bin& e = bins[static_cast<std::uint32_t>(b)];
-        EXPECT_EQ(e.interval + (v >= e.split ? 1u : 0u), want) << "axis " << a << " at " << v;
-        // Past the split the next bin holds the interval's start and inverse length.
+        // Past the split the next bin holds the interval: its lowest node's offset (the
+        // interval times the axis' node stride), start and inverse length.
         const spz_axis_bin& used = v >= e.split ? (&e)[1] : e;
-        EXPECT_EQ(used.interval, want) << "axis " << a << " at " << v;
+        EXPECT_EQ(used.node, want * stride[a]) << "axis " << a << " at " << v;
         EXPECT_EQ(used.position, p[want]) << "axis " << a << " at " << v;
         EXPECT_EQ(used.inverse, inverse[want]) << "axis " << a << " at " << v;
         ++checked;
@@ -292,7 +293,32 @@ TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
     EXPECT_EQ(h.sections[SPZ_SECTION_AXIS_INVERSE].count,
               h.nodes[0] - 1 + h.nodes[1] - 1 + (refl ? h.nodes[2] - 1 : 0));
     EXPECT_EQ(h.sections[SPZ_SECTION_NODE_SLOTS].count, nodes);
-    EXPECT_EQ(h.sections[SPZ_SECTION_CELLS].count, m.table.cell_count());
+    EXPECT_EQ(h.sections[SPZ_SECTION_CELLS].count, nodes);  // by each cell's lowest node
+    // Each cell's code at its lowest node; an axis' last node has none.
+    const std::uint32_t* codes = o.section<std::uint32_t>(SPZ_SECTION_CELLS);
+    const std::size_t nx = h.nodes[0], ny = h.nodes[1], nz = h.nodes[2];
+    std::size_t cell = 0, boundary_seen = 0;
+    for (std::size_t z = 0; z < nz; ++z)
+      for (std::size_t y = 0; y < ny; ++y)
+        for (std::size_t x = 0; x < nx; ++x) {
+          const std::uint32_t code = codes[x + nx * (y + ny * z)];
+          if (x + 1 == nx || y + 1 == ny || (refl && z + 1 == nz)) {
+            EXPECT_EQ(code, SPZ_OUTSIDE) << x << " " << y << " " << z;
+            continue;
+          }
+          switch (m.table.cell(cell++, nullptr)) {
+            case ExactTable::CellKind::inside:
+              EXPECT_EQ(code, 0u);
+              break;
+            case ExactTable::CellKind::outside:
+              EXPECT_EQ(code, SPZ_OUTSIDE);
+              break;
+            case ExactTable::CellKind::boundary:
+              EXPECT_EQ(code, SPZ_BOUNDARY_BIT | boundary_seen++);
+              break;
+          }
+        }
+    EXPECT_EQ(cell, m.table.cell_count());
     std::uint64_t with_spectrum = 0;
     for (std::size_t n = 0; n < m.table.node_count(); ++n)
       with_spectrum += m.table.node_spectrum(n) != nullptr;
@@ -315,7 +341,7 @@ TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
     EXPECT_EQ(h.sections[SPZ_SECTION_BOUNDARY_VALUES].count, 2 * vertices);
     EXPECT_EQ(h.sections[SPZ_SECTION_LOCUS_PLANES].count, 4 * m.sp.locus().facets());
     EXPECT_EQ(h.sections[SPZ_SECTION_SOLID_PLANES].count, refl ? 4 * m.sp.gamut().facets() : 0);
-    // The node spectra are the table's, in node order, bit for bit.
+    // The node spectra are the table's, in node order, bit for bit, named by their offsets.
     const std::uint32_t* slots = o.section<std::uint32_t>(SPZ_SECTION_NODE_SLOTS);
     const float* spectra = o.section<float>(SPZ_SECTION_SPECTRA);
     std::uint32_t next = 0;
@@ -325,8 +351,8 @@ TEST(TableFile, SectionsLieOnTheirAlignmentWithTheCountsTheTableImplies) {
         ASSERT_EQ(slots[n], SPZ_OUTSIDE) << n;
         continue;
       }
-      ASSERT_EQ(slots[n], next++) << n;
-      ASSERT_EQ(std::memcmp(spectra + std::size_t(slots[n]) * 81, p, 81 * sizeof(float)), 0) << n;
+      ASSERT_EQ(slots[n], 81 * next++) << n;  // the offset of its spectrum
+      ASSERT_EQ(std::memcmp(spectra + slots[n], p, 81 * sizeof(float)), 0) << n;
     }
   }
 }
