@@ -24,15 +24,14 @@ class RtBitmap {
     for (int c = 0; c < 3; ++c) y_[c] = m[3 + c];  // the luminance row of RGB -> XYZ
   }
 
-  // Texture::eval(si): bilinear RGB at (u, v), then one fetch and one eval of 4 wavelengths.
+  // Texture::eval(si): bilinear RGB at (u, v), then the spectrum at 4 wavelengths in one call
+  // (spz_fetch then spz_eval4, bit for bit).
   Spectrum eval(float u, float v, const Wavelength& lambda, float scale = 1.0f) const {
     float rgb[3];
     bilinear(u, v, rgb);
-    spz_spectrum s;
-    spz_fetch(table_, rgb, &s);
     Spectrum out;
-    spz_eval4(&s, lambda.data(), out.data());
-    for (float& x : out) x *= scale;  // an emitter's "scale"; no D65 factor: s is the light's
+    spz_fetch_eval4(table_, rgb, lambda.data(), out.data(), nullptr);
+    for (float& x : out) x *= scale;  // an emitter's "scale"; no D65 factor: it is the light's
     return out;
   }
 

@@ -92,6 +92,12 @@ SPZ_API float spz_eval(const spz_spectrum* s, float lambda_nm);
 /* The values at four wavelengths (e.g. a path's hero wavelengths). Cost: O(1). */
 SPZ_API void spz_eval4(const spz_spectrum* s, const float lambda_nm[4], float out[4]);
 
+/* spz_fetch then spz_eval4 in one call (a texture lookup that evaluates at once): the same
+ * status and values bit for bit; the spectrum also into `keep` unless it is NULL. Cost: as
+ * both, a few cycles less (the spectrum stays out of memory on the common path). */
+SPZ_API int spz_fetch_eval4(const spz_table* table, const float rgb[3], const float lambda_nm[4],
+                            float out[4], spz_spectrum* keep);
+
 /* All samples of the spectrum, spz_table_bands() floats into out. Cost: O(bands). */
 SPZ_API void spz_samples(const spz_spectrum* s, float* out);
 

@@ -335,6 +335,25 @@ void BM_SpzFetch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
 }
 
+// The same lookups through fetch_eval4 (one call, as a texture lookup that evaluates at once).
+void BM_SpzFetchEval4(benchmark::State& state) {
+  const spz::TableView& table = srgb_table();
+  const auto pixels = benchmark_pixels(state.range(0));
+  std::vector<float> nm(pixels.size() * 4);
+  std::uint32_t seed = 777;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
+    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
+  }
+  std::vector<float> out(pixels.size() * 4);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+      table.fetch_eval4(pixels[i].data(), &nm[4 * i], &out[4 * i]);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
+}
+
 // Whole 81-band spectra into an array, by threads: each thread fills its own array with the
 // spectra of the 65,536 image-like colours (as a renderer's workers would); items are summed
 // over the threads, per second of wall time.
@@ -362,6 +381,7 @@ BENCHMARK(BM_SpzFetch)
     ->Args({1, 81})
     ->Args({0, 81})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SpzFetchEval4)->ArgNames({"image"})->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Rgb2specC)->ArgNames({"image"})->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpzSpectraArray)->Threads(1)->Threads(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SigmoidTableFetch)

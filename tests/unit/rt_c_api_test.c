@@ -2,7 +2,8 @@
  * colour and checks what a renderer relies on: the status, the bounds, eval against the
  * samples, eval4 against eval, zero outside the wavelengths, the error message of a bad
  * path; the array API against one fetch per colour (rows, statuses, counts), a spectrum's
- * maximum against its samples, the zero spectrum and a NULL table. The implementation is in
+ * maximum against its samples, fetch_eval4 against fetch and eval4, the zero spectrum and a
+ * NULL table. The implementation is in
  * rt_c_api_impl.cpp (SPECTRALIZE_RT_IMPLEMENTATION). Usage: rt_c_api_test TABLE.spztab
  * (reflectance); prints "ok" and exits 0. */
 #include <spectralize/rt.h>
@@ -90,6 +91,36 @@ int main(int argc, char** argv) {
     /* No table: zero rows, every colour invalid. */
     CHECK(spz_fetch_array(NULL, colours, 1, lambda, 4, at, statuses, counts) == 4);
     CHECK(statuses[0] == SPZ_INVALID && counts[2] == 1 && at[0] == 0.0f && at[3] == 0.0f);
+  }
+  /* spz_fetch_eval4 is spz_fetch then spz_eval4, bit for bit: inside cells, in boundary cells,
+   * outside the gamut, near black, NaN; the spectrum kept is the one fetched. */
+  {
+    int r, g, b, mismatches = 0, kinds[4] = {0, 0, 0, 0};
+    for (r = 0; r <= 24; ++r)
+      for (g = 0; g <= 24; ++g)
+        for (b = 0; b <= 25; ++b) {
+          float c[3], direct[4], fused[4], fused_alone[4];
+          spz_spectrum one, kept;
+          int want, got, alone;
+          c[0] = -0.2f + 1.5f * (float)r / 24.0f;
+          c[1] = -0.2f + 1.5f * (float)g / 24.0f;
+          c[2] = b == 25 ? NAN : -0.2f + 1.5f * (float)b / 24.0f;
+          if (r == 12 && g == 12) c[0] = c[1] = c[2] = 1e-35f * (float)b; /* near black */
+          want = spz_fetch(table, c, &one);
+          spz_eval4(&one, lambda, direct);
+          got = spz_fetch_eval4(table, c, lambda, fused, &kept);
+          alone = spz_fetch_eval4(table, c, lambda, fused_alone, NULL);
+          if (got != want || alone != want || memcmp(direct, fused, sizeof direct) != 0 ||
+              memcmp(direct, fused_alone, sizeof direct) != 0 ||
+              memcmp(&one, &kept, sizeof one) != 0)
+            ++mismatches;
+          if (want >= SPZ_NEGATIVE && want <= SPZ_MAPPED) ++kinds[want - SPZ_NEGATIVE];
+        }
+    CHECK(mismatches == 0);
+    /* Every kind of result was met: negative, invalid, exact and mapped. */
+    CHECK(kinds[0] > 0 && kinds[1] > 0 && kinds[2] > 0 && kinds[3] > 0);
+    CHECK(spz_fetch_eval4(NULL, rgb, lambda, values, &s) == SPZ_INVALID);
+    CHECK(values[0] == 0.0f && values[3] == 0.0f && spz_eval(&s, 500.0f) == 0.0f);
   }
   /* A NULL table answers without a crash. */
   CHECK(spz_table_bands(NULL) == 0 && spz_table_mode(NULL) == -1);
