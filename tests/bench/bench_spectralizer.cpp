@@ -190,6 +190,18 @@ void BM_TableSynthesis(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pixels.size()));
 }
 
+// Four wavelengths per colour, as a path's hero wavelengths: one uniform draw in 360-830 nm and
+// three rotations of it (the same sequence for every benchmark).
+std::vector<float> hero_wavelengths(std::size_t colours) {
+  std::vector<float> nm(colours * 4);
+  std::uint32_t seed = 777;
+  for (std::size_t i = 0; i < colours; ++i) {
+    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
+    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
+  }
+  return nm;
+}
+
 // The baseline renderers use (Jakob & Hanika 2019, pbrt-v4's RGBToSpectrumTable; a 64^3 sRGB
 // table, built before timing): per pixel the trilinear fetch of the 3 coefficients, then the
 // sigmoid at 4 wavelengths (bands 4: a renderer's hero-wavelength sample, 4 stratified
@@ -200,12 +212,7 @@ void BM_SigmoidTableFetch(benchmark::State& state) {
   static const baseline::SigmoidTable table(fitter, 64, 2);
   const auto pixels = benchmark_pixels(state.range(0));
   const int bands = static_cast<int>(state.range(1));
-  std::vector<float> nm(pixels.size() * 4);
-  std::uint32_t seed = 777;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
-    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
-  }
+  const std::vector<float> nm = hero_wavelengths(pixels.size());
   float grid[81];
   for (int b = 0; b < 81; ++b) grid[b] = 380.0f + 5.0f * b;
   std::vector<float> out(pixels.size() * bands);
@@ -253,12 +260,7 @@ void BM_Rgb2specC(benchmark::State& state) {
   }();
   const rgb2spec_c model{64, scale.data(), data.data()};
   const auto pixels = benchmark_pixels(state.range(0));
-  std::vector<float> nm(pixels.size() * 4);
-  std::uint32_t seed = 777;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
-    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
-  }
+  const std::vector<float> nm = hero_wavelengths(pixels.size());
   std::vector<float> out(pixels.size() * 4);
   for (auto _ : state) {
     for (std::size_t i = 0; i < pixels.size(); ++i) {
@@ -309,12 +311,7 @@ void BM_SpzFetch(benchmark::State& state) {
   const spz::TableView& table = srgb_table();
   const auto pixels = benchmark_pixels(state.range(0));
   const int bands = static_cast<int>(state.range(1));
-  std::vector<float> nm(pixels.size() * 4);
-  std::uint32_t seed = 777;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
-    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
-  }
+  const std::vector<float> nm = hero_wavelengths(pixels.size());
   std::vector<float> out(pixels.size() * bands);
   for (auto _ : state) {
     if (bands == 4) {  // the bands chosen outside the loop, as BM_SigmoidTableFetch does
@@ -339,12 +336,7 @@ void BM_SpzFetch(benchmark::State& state) {
 void BM_SpzFetchEval4(benchmark::State& state) {
   const spz::TableView& table = srgb_table();
   const auto pixels = benchmark_pixels(state.range(0));
-  std::vector<float> nm(pixels.size() * 4);
-  std::uint32_t seed = 777;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const float u = (seed = seed * 1664525u + 1013904223u) / 4294967296.0f;
-    for (int j = 0; j < 4; ++j) nm[4 * i + j] = 360.0f + 470.0f * std::fmod(u + 0.25f * j, 1.0f);
-  }
+  const std::vector<float> nm = hero_wavelengths(pixels.size());
   std::vector<float> out(pixels.size() * 4);
   for (auto _ : state) {
     for (std::size_t i = 0; i < pixels.size(); ++i)
