@@ -239,6 +239,8 @@ class TableView {
 
   /// True for a view of a validated table (false: empty, moved from, or a failed open).
   bool loaded() const noexcept { return h_ != nullptr; }
+  /// The empty view: its fetches give SPZ_INVALID and the zero spectrum. Cost: O(1).
+  static const TableView& none() noexcept;
   std::size_t bands() const noexcept { return bands_; }
   /// Colours whose target X, Y, Z are all below this (table units: a reflectance's white has
   /// Y = 1) are black, SPZ_MAPPED: their float spectra would be denormal, not exact.
@@ -264,6 +266,11 @@ class TableView {
   bool blend(const double u[3], Spectrum& s, bool nearest, bool* reproduced) const noexcept;
   template <int dims>
   bool fast_blend(const float u[3], Spectrum& s) const noexcept;
+  // fetch()'s common path for a reflectance: the spectrum's fields, and the lookup of a colour
+  // not darker than kDarkest inside a cell (kBoundary: in a boundary cell too). False: the
+  // colour goes the slow way.
+  template <bool kBoundary>
+  bool fast_reflectance(const float rgb[3], Spectrum& s) const noexcept;
   struct AxisFast {  // one axis' lookup, hot in fetch()
     const spz_axis_bin* lut;
     float origin, inv_bin, last_bin, lo, hi;
@@ -360,13 +367,9 @@ class Table {
     return ok;
   }
   /// The validated view, or an empty one. Cost: O(1).
-  const TableView& view() const noexcept { return view_ ? *view_ : empty(); }
+  const TableView& view() const noexcept { return view_ ? *view_ : TableView::none(); }
 
  private:
-  static const TableView& empty() noexcept {
-    static constexpr TableView none{};  // constant-initialised: no guard, no runtime library
-    return none;
-  }
   void release() noexcept {
     if (view_) view_->~TableView();
     std::free(block_);
@@ -1576,18 +1579,11 @@ SPZ_HOT_INLINE int TableView::fetch(const float rgb[3], Spectrum& s) const noexc
     zero(s);
     return SPZ_INVALID;
   }
-  s.table = this;
-  s.flags = reflectance_ ? 2u : 0u;
   if (reflectance_) {
-    s.scale = 1;
-    // Colours darker than kDarkest go the slow way (false for NaN too).
-    const float top = std::max(std::max(rgb[0], rgb[1]), rgb[2]);
-#if defined(__SSE2__)
-    if (top >= static_cast<float>(kDarkest) && fast_blend_sse(rgb, s)) return SPZ_EXACT;
-#else
-    if (top >= static_cast<float>(kDarkest) && fast_blend<3>(rgb, s)) return SPZ_EXACT;
-#endif
+    if (fast_reflectance<true>(rgb, s)) return SPZ_EXACT;
   } else {
+    s.table = this;
+    s.flags = 0;
     const float* m = to_target_f_;
     const float X = m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2];
     const float Y = m[3] * rgb[0] + m[4] * rgb[1] + m[5] * rgb[2];
@@ -1603,24 +1599,34 @@ SPZ_HOT_INLINE int TableView::fetch(const float rgb[3], Spectrum& s) const noexc
   return slow_fetch(rgb, s);
 }
 
+template <bool kBoundary>
+SPZ_HOT_INLINE bool TableView::fast_reflectance(const float rgb[3], Spectrum& s) const noexcept {
+  s.table = this;
+  s.flags = 2u;
+  s.scale = 1;
+  // Colours darker than kDarkest go the slow way (false for NaN too).
+  const float top = std::max(std::max(rgb[0], rgb[1]), rgb[2]);
+  if (!(top >= static_cast<float>(kDarkest))) return false;
+#if defined(__SSE2__)
+  return fast_blend_sse<kBoundary>(rgb, s);
+#else
+  return fast_blend<3>(rgb, s);
+#endif
+}
+
 SPZ_HOT_INLINE int TableView::fetch_eval4(const float rgb[3], const float lambda_nm[4],
                                           float out[4], Spectrum* keep) const noexcept {
-#if defined(__SSE2__)
   if (reflectance_) {
-    // fetch()'s common path with a spectrum whose address is never taken: the compiler keeps
-    // it in registers from the lookup to the values (fetch() hands it through memory).
+    // fetch()'s common path with a spectrum whose address is never taken (boundary cells go
+    // the full way): the compiler keeps it in registers from the lookup to the values, where
+    // fetch() hands it through memory.
     Spectrum s;
-    s.table = this;
-    s.flags = 2u;
-    s.scale = 1;
-    const float top = std::max(std::max(rgb[0], rgb[1]), rgb[2]);
-    if (top >= static_cast<float>(kDarkest) && fast_blend_sse<false>(rgb, s)) {
+    if (fast_reflectance<false>(rgb, s)) {
       eval4(s, lambda_nm, out);
       if (keep) *keep = s;
       return SPZ_EXACT;
     }
   }
-#endif
   Spectrum s;
   const int status = fetch(rgb, s);
   eval4(s, lambda_nm, out);
@@ -1732,6 +1738,11 @@ inline std::size_t fetch_array(const TableView& t, const float* rgb, std::size_t
   return row;
 }
 
+inline const TableView& TableView::none() noexcept {
+  static constexpr TableView empty{};  // constant-initialised: no guard, no runtime library
+  return empty;
+}
+
 // --- Table ---
 
 inline bool Table::load(const char* path, char* error, std::size_t error_size) noexcept {
@@ -1833,22 +1844,15 @@ void spz_table_free(spz_table* table) {
   std::free(table);
 }
 
+// No table fetches as the empty view: SPZ_INVALID and the zero spectrum.
 int spz_fetch(const spz_table* table, const float rgb[3], spz_spectrum* out) {
-  if (!table) {  // no table: the zero spectrum
-    *out = spz_spectrum{};
-    return SPZ_INVALID;
-  }
-  return table->table.view().fetch(rgb, *out);
+  return (table ? table->table.view() : spz::TableView::none()).fetch(rgb, *out);
 }
 
 int spz_fetch_eval4(const spz_table* table, const float rgb[3], const float lambda_nm[4],
                     float out[4], spz_spectrum* keep) {
-  if (!table) {  // no table: the zero spectrum
-    out[0] = out[1] = out[2] = out[3] = 0.0f;
-    if (keep) *keep = spz_spectrum{};
-    return SPZ_INVALID;
-  }
-  return table->table.view().fetch_eval4(rgb, lambda_nm, out, keep);
+  return (table ? table->table.view() : spz::TableView::none())
+      .fetch_eval4(rgb, lambda_nm, out, keep);
 }
 
 float spz_eval(const spz_spectrum* s, float lambda_nm) {
@@ -1877,9 +1881,8 @@ float spz_spectrum_max(const spz_spectrum* s) {
 
 size_t spz_fetch_array(const spz_table* table, const float* rgb, size_t n, const float* lambda_nm,
                        size_t m, float* out, int* statuses, size_t counts[4]) {
-  static constexpr spz::TableView none{};
-  return spz::fetch_array(table ? table->table.view() : none, rgb, n, lambda_nm, m, out, statuses,
-                          counts);
+  return spz::fetch_array(table ? table->table.view() : spz::TableView::none(), rgb, n, lambda_nm,
+                          m, out, statuses, counts);
 }
 
 size_t spz_table_bands(const spz_table* table) {

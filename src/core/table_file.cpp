@@ -172,19 +172,24 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
     }
     return it->second;
   };
-  std::vector<std::uint32_t> cells(table.cell_count()), bcells, simplices;
+  // Cell codes by each cell's lowest node (rt_format.h): a fetch indexes cells and nodes with
+  // one offset; an axis' last node has no cell.
+  std::vector<std::uint32_t> cells(table.node_count(), SPZ_OUTSIDE), bcells, simplices;
   std::uint32_t most_simplices = 0;
   for (std::size_t c = 0; c < table.cell_count(); ++c) {
     const ExactTable::BoundaryCell* data = nullptr;
+    const std::size_t x = c % (nx - 1), y = (c / (nx - 1)) % (ny - 1),
+                      z = c / ((nx - 1) * (ny - 1));
+    std::uint32_t& code = cells[x + nx * (y + ny * z)];
     switch (table.cell(c, &data)) {
       case ExactTable::CellKind::inside:
-        cells[c] = 0;
+        code = 0;
         break;
       case ExactTable::CellKind::outside:
-        cells[c] = SPZ_OUTSIDE;
+        code = SPZ_OUTSIDE;
         break;
       case ExactTable::CellKind::boundary:
-        cells[c] = SPZ_BOUNDARY_BIT | static_cast<std::uint32_t>(bcells.size() / 2);
+        code = SPZ_BOUNDARY_BIT | static_cast<std::uint32_t>(bcells.size() / 2);
         bcells.push_back(static_cast<std::uint32_t>(simplices.size() / 4));
         bcells.push_back(static_cast<std::uint32_t>(data->simplices.size()));
         most_simplices =
@@ -197,13 +202,6 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
                                     : r);
         break;
     }
-  }
-  // Cells by their lowest node (rt_format.h): a fetch indexes cells and nodes with one offset.
-  std::vector<std::uint32_t> cell_codes(table.node_count(), SPZ_OUTSIDE);
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    const std::size_t x = c % (nx - 1), y = (c / (nx - 1)) % (ny - 1),
-                      z = c / ((nx - 1) * (ny - 1));
-    cell_codes[x + nx * (y + ny * z)] = cells[c];
   }
   auto planes_of = [](const ConvexGamut& g) {
     std::vector<double> out;
@@ -242,7 +240,7 @@ std::string encode_table_file(const ExactTable& table, const Spectralizer& sp,
                                          {axes[2].data(), axes[2].size(), 4},
                                          {inverse.data(), inverse.size(), 4},
                                          {luts.data(), luts.size(), sizeof(spz_axis_bin)},
-                                         {cell_codes.data(), cell_codes.size(), 4},
+                                         {cells.data(), cells.size(), 4},
                                          {slots.data(), slots.size(), 4},
                                          {spectra.data(), spectra.size(), 4},
                                          {bcells.data(), bcells.size(), 4},

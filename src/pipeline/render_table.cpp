@@ -114,9 +114,8 @@ JobPlan plan_table(Settings settings, const std::string& output, const OptionNam
   return plan;
 }
 
-double feasible_share(const Spectralizer& sp, const Mat3& frame, int steps) {
-  // The frame as the table uses it (white snapped to D65 when within rounding of it).
-  const Mat3 m = snap_frame_white(frame);
+double feasible_share(const Spectralizer& sp, const ExactTable& table, int steps) {
+  const Mat3& m = table.target_from_rgb();
   std::atomic<std::int64_t> inside{0};
   OIIO::parallel_for_chunked(0, static_cast<int64_t>(steps) * steps, 8, [&](int64_t b, int64_t e) {
     std::int64_t n = 0;
@@ -124,7 +123,7 @@ double feasible_share(const Spectralizer& sp, const Mat3& frame, int steps) {
       for (int i = 0; i < steps; ++i) {
         const Xyz rgb{(i + 0.5) / steps, (k % steps + 0.5) / steps, (k / steps + 0.5) / steps};
         Outcome outcome = Outcome::exact;
-        sp.mapped_target(sp.target_of(mul(m, rgb)), outcome);
+        sp.mapped_target(mul(m, rgb), outcome);
         n += outcome == Outcome::exact;
       }
     inside += n;
@@ -168,7 +167,7 @@ RenderTable make_render_table(const JobPlan& plan, const LogFn& log) {
   for (std::size_t n = 0; n < table.node_count(); ++n)
     r.spectra += table.node_spectrum(n) != nullptr;
   r.boundary_cells = r.stats.boundary_cells;
-  r.feasible = feasible_share(sp, frame);
+  r.feasible = feasible_share(sp, table);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.stats.nodes_constructed > 0)
     log(1, std::to_string(r.stats.nodes_constructed) +

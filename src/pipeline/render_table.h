@@ -57,12 +57,12 @@ inline constexpr double kPrimariesTolerance = 1e-3;
 /// table). Throws Error naming the option. Cost: the config's parse, OCIO processors.
 JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names);
 
-/// The share of the RGB unit cube whose colours a table of `frame` (its RGB -> XYZ) reproduces
-/// exactly: of the steps^3 cell centres of [0, 1]^3, those whose target lies in the mode's
-/// gamut (the reflectance solid; for emission the spectral locus) as the mapping decides it
+/// The share of the RGB unit cube whose colours `table` reproduces exactly: of the steps^3
+/// cell centres of [0, 1]^3, those whose target (the table's own) lies in the mode's gamut
+/// (the reflectance solid; for emission the spectral locus) as the mapping decides it
 /// (docs/DESIGN.md §5; within the snap tolerance is inside). The rest are mapped. Thread-safe.
 /// Cost: steps^3 gamut tests, O(facets) each (~0.2 s at 32 on one core).
-double feasible_share(const Spectralizer& sp, const Mat3& frame, int steps = 32);
+double feasible_share(const Spectralizer& sp, const ExactTable& table, int steps = 32);
 
 /// A built table file.
 struct RenderTable {
