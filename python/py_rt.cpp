@@ -1,13 +1,13 @@
 #include "py_rt.h"
 
+#include <OpenImageIO/parallel.h>
 #include <pybind11/numpy.h>
 #include <spectralize/rt.hpp>
 
-#include <algorithm>
 #include <array>
+#include <atomic>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace py = pybind11;
@@ -57,30 +57,25 @@ class RtTable {
     py::array_t<float> out(shape);
     float* dst = out.mutable_data();
     const float* src = colours.data();
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t workers =
-        std::min<std::size_t>(threads > 0 ? static_cast<std::size_t>(threads) : cores,
-                              std::max<std::size_t>(1, n / 4096));
-    std::vector<std::array<std::size_t, 4>> counts(workers, {0, 0, 0, 0});
+    // OIIO's pool, as the module's other array functions: chunks of 4096 colours, each
+    // counting into its own tally.
+    std::array<std::atomic<std::size_t>, 4> counts{};
     {
       py::gil_scoped_release release;
-      auto part = [&](std::size_t w) {
-        const std::size_t a = n * w / workers, b = n * (w + 1) / workers;
-        spz::fetch_array(view(), src + 3 * a, b - a, nm.empty() ? nullptr : nm.data(), nm.size(),
-                         dst + row * a, nullptr, counts[w].data());
-      };
-      std::vector<std::thread> pool;
-      for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(part, w);
-      part(0);
-      for (std::thread& t : pool) t.join();
+      OIIO::parallel_for_chunked(
+          0, static_cast<int64_t>(n), 4096,
+          [&](int64_t begin, int64_t end) {
+            const auto a = static_cast<std::size_t>(begin), b = static_cast<std::size_t>(end);
+            std::size_t c[4];
+            spz::fetch_array(view(), src + 3 * a, b - a, nm.empty() ? nullptr : nm.data(),
+                             nm.size(), dst + row * a, nullptr, c);
+            for (int k = 0; k < 4; ++k) counts[k] += c[k];
+          },
+          OIIO::paropt(threads));
     }
     py::dict tally;
     const char* names[4] = {"exact", "mapped", "invalid", "negative"};
-    for (int k = 0; k < 4; ++k) {
-      std::size_t sum = 0;
-      for (const auto& c : counts) sum += c[k];
-      tally[names[k]] = sum;
-    }
+    for (int k = 0; k < 4; ++k) tally[names[k]] = counts[k].load();
     return py::make_tuple(out, tally);
   }
 

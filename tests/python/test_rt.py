@@ -33,6 +33,13 @@ def test_a_tables_spectra_reproduce_their_colours_within_bounds(sp, srgb_table, 
     assert relative_error(xyz, target) <= 1e-5
     # On two threads and on one: the same numbers.
     assert np.array_equal(t.spectra(rgb, threads=1)[0], t.spectra(rgb, threads=2)[0])
+    # Over several chunks of the pool (4096 colours each), inside and outside the gamut: the
+    # same spectra and the same counts, every colour counted once.
+    many = rng.uniform(-0.2, 1.3, size=(20000, 3)).astype(np.float32)
+    one, one_counts = t.spectra(many, threads=1)
+    two, two_counts = t.spectra(many, threads=2)
+    assert np.array_equal(one, two) and one_counts == two_counts
+    assert sum(one_counts.values()) == 20000 and one_counts["mapped"] > 0
 
 
 def test_colours_it_cannot_have_are_counted_and_get_zero_spectra(srgb_table):
