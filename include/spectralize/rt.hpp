@@ -248,6 +248,10 @@ class TableView {
   float lambda_start() const noexcept { return start_; }
   float lambda_step() const noexcept { return step_; }
   bool reflectance() const noexcept { return reflectance_; }
+  /// True when a reflectance colour in [0, 1]^3 finds its cell from its square root alone
+  /// (the axes hold (k / steps)^2 on [0, 1], as `spectralize table` writes them), without the
+  /// lookup bins. Cost: O(1).
+  bool direct_lookup() const noexcept { return direct_; }
   const spz_file_header& header() const noexcept { return *h_; }
 
   // Internal data, read by the eval functions below.
@@ -259,6 +263,8 @@ class TableView {
   const std::uint32_t* bmask_ = nullptr;
   const std::uint32_t* bpick_ = nullptr;
   const float* bvalue_ = nullptr;
+  // eval4's constants in its four lanes: start, 1 / step, last band, last interval, step.
+  alignas(16) float wave_[5][4] = {};
 
  private:
   bool locate(const double u[3], int cell_index[3], double f[3], bool clamp,
@@ -293,8 +299,17 @@ class TableView {
     std::uint32_t first[8] = {}, second[8] = {};
     std::uint32_t far = 0;  // the node offset of the cell's highest corner: 1 + nx + nx * ny
     std::uint8_t order[8][3] = {};
+    // The squared nodes of [0, 1] ((k / steps)^2, k = 0..steps on every axis, as the writer
+    // places them): there the interval is k = floor(steps * sqrt(v)), no lookup read at all.
+    std::uint32_t zero_node = 0;  // the node offset of (0, 0, 0)
+    alignas(16) float steps[4] = {}, last_k[4] = {}, steps2[4] = {};  // steps, steps - 1, steps^2
+    alignas(16) float stride[4] = {};  // each axis' node stride (lane 3: 0)
   };
   Lanes lanes_;
+  // True when every axis holds (k / steps)^2 for k = 0..steps (float of the double square, as
+  // the writer stores them) consecutively, the same steps on each: sets the node offset of
+  // black and steps. Cost: O(steps).
+  bool squared_axes(std::uint32_t& zero_node, float& steps) const noexcept;
 #endif
   bool cell_blend(const int i[3], const double f[3], const double u[3], Spectrum& s, bool nearest,
                   bool* reproduced) const noexcept;
@@ -321,6 +336,7 @@ class TableView {
 
   std::uint32_t n_[3] = {0, 0, 0}, lut_size_[3] = {0, 0, 0}, dims_ = 3;
   std::uint32_t stride_[3] = {0, 0, 0};  // each axis' node stride: 1, nx, nx * ny
+  bool direct_ = false;                  // direct_lookup()
   float lut_origin_[3] = {0, 0, 0}, lut_inv_[3] = {0, 0, 0};
   const float* axis_[3] = {nullptr, nullptr, nullptr};
   const float* inverse_[3] = {nullptr, nullptr, nullptr};
@@ -454,14 +470,14 @@ SPZ_HOT_INLINE void eval4(const Spectrum& s, const float lambda_nm[4], float out
   const TableView& t = *static_cast<const TableView*>(s.table);
 #if defined(__SSE2__)
   if (!(s.flags & 1u)) {
-    const __m128 l = _mm_loadu_ps(lambda_nm), start = _mm_set1_ps(t.start_);
-    const __m128 inv = _mm_set1_ps(t.inv_step_), zero = _mm_setzero_ps(), one = _mm_set1_ps(1);
+    const __m128 l = _mm_loadu_ps(lambda_nm), start = _mm_load_ps(t.wave_[0]);
+    const __m128 inv = _mm_load_ps(t.wave_[1]), zero = _mm_setzero_ps(), one = _mm_set1_ps(1);
     const __m128 x = _mm_mul_ps(_mm_sub_ps(l, start), inv);
-    const __m128 in = _mm_and_ps(_mm_cmpge_ps(x, zero), _mm_cmple_ps(x, _mm_set1_ps(t.last_)));
+    const __m128 in = _mm_and_ps(_mm_cmpge_ps(x, zero), _mm_cmple_ps(x, _mm_load_ps(t.wave_[2])));
     // The interval (k <= N - 2) and the position in it from its own start (interval_of).
-    const __m128 xk = _mm_min_ps(_mm_and_ps(in, x), _mm_set1_ps(static_cast<float>(t.bands_ - 2)));
+    const __m128 xk = _mm_min_ps(_mm_and_ps(in, x), _mm_load_ps(t.wave_[3]));
     const __m128i ki = _mm_cvttps_epi32(xk);
-    const __m128 lk = _mm_add_ps(start, _mm_mul_ps(_mm_cvtepi32_ps(ki), _mm_set1_ps(t.step_)));
+    const __m128 lk = _mm_add_ps(start, _mm_mul_ps(_mm_cvtepi32_ps(ki), _mm_load_ps(t.wave_[4])));
     const __m128 lc = _mm_or_ps(_mm_and_ps(in, l), _mm_andnot_ps(in, start));
     const __m128 f = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(lc, lk), inv), one), zero);
     const int k0 = _mm_cvtsi128_si32(ki), k1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(ki, 0x55));
@@ -1043,8 +1059,10 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   solid_ = {f64(SPZ_SECTION_SOLID_PLANES), solid_planes};
   band_weights_ = f64(SPZ_SECTION_BAND_WEIGHTS);
   for (std::uint64_t k = 0; k < 3 * std::uint64_t{bands}; ++k)
-    if (!detail::finite(band_weights_[k]))
-      return say(error, error_size, "band weight %llu is not finite",
+    if (!detail::finite(band_weights_[k]) || band_weights_[k] < 0)
+      return say(error, error_size,
+                 "band weight %llu is negative or not finite (colour matching "
+                 "functions and illuminants are >= 0)",
                  static_cast<unsigned long long>(k)),
              false;
   for (int k = 0; k < 9; ++k) to_target_f_[k] = static_cast<float>(h->rgb_to_target[k]);
@@ -1062,6 +1080,12 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
     }
     const std::uint32_t step[3] = {1, n_[0], n_[0] * n_[1]};
     lanes_.far = step[0] + step[1] + step[2];
+    direct_ = squared_axes(lanes_.zero_node, lanes_.steps[0]);
+    for (int a = 0; a < 3; ++a) {
+      lanes_.steps[a] = lanes_.steps[0], lanes_.last_k[a] = lanes_.steps[0] - 1;
+      lanes_.steps2[a] = lanes_.steps[0] * lanes_.steps[0];
+      lanes_.stride[a] = static_cast<float>(step[a]);
+    }
     for (std::uint32_t code = 0; code < 8; ++code) {
       // Each axis' rank among the three (ties by axis order), as fast_blend<3> ranks them;
       // the two orders no floats have (f1 > f0, f2 > f1, f0 >= f2) get the axes' own order.
@@ -1083,6 +1107,10 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
   step_ = static_cast<float>(h->lambda_step);
   inv_step_ = static_cast<float>(1.0 / h->lambda_step);
   last_ = static_cast<float>(bands - 1);
+  for (int l = 0; l < 4; ++l) {
+    wave_[0][l] = start_, wave_[1][l] = inv_step_, wave_[2][l] = last_;
+    wave_[3][l] = static_cast<float>(bands - 2), wave_[4][l] = step_;
+  }
   // A light's samples are its scale times at most sample_bound: below float's largest.
   max_scale_ = static_cast<float>(3.0e38 / h->sample_bound);
   if (!check_meaning(error, error_size)) {
@@ -1093,8 +1121,8 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
 }
 
 // What the table means, checked in O(size): every stored spectrum reproduces the colour of its
-// position under the band weights to 1e-5 relative; an emission table's samples are no larger
-// than a spectrum of X+Y+Z = 1 can hold; the gamuts hold the colours of nodes with spectra.
+// position under the band weights (>= 0) to 2e-6 relative; an emission table's samples are no
+// larger than a spectrum of X+Y+Z = 1 can hold; the gamuts hold the colours of nodes with spectra.
 inline bool TableView::check_meaning(char* error, std::size_t error_size) const noexcept {
   using detail::say;
   const spz_file_header* h = h_;
@@ -1104,12 +1132,15 @@ inline bool TableView::check_meaning(char* error, std::size_t error_size) const 
     if (reflectance_) return detail::mul(h->rgb_to_target, {p[0], p[1], p[2]});
     return detail::Vec3{p[0], p[1], 1 - p[0] - p[1]};
   };
-  auto check = [&](const detail::Vec3& want, const double got[3], double spread, const char* what,
+  auto check = [&](const detail::Vec3& want, const double got[3], const char* what,
                    unsigned long long index) {
     const double scale = detail::max_abs(want);
     const double err = std::max(std::abs(got[0] - want.x),
                                 std::max(std::abs(got[1] - want.y), std::abs(got[2] - want.z)));
-    if (err <= 1e-5 * scale + 1e-6 * spread) return true;
+    // 2e-6 of the node's own colour (spectra made by `spectralize table`: 1e-7): blends of
+    // colours >= 0 then stay within 3 x 2e-6 of theirs, inside SPZ_EXACT_TOLERANCE with the
+    // float blend's rounding, whatever the weights.
+    if (err <= 2e-6 * scale) return true;
     say(error, error_size,
         "%s %llu does not reproduce the colour of its position (relative error %.2g): a wrong "
         "spectrum, position, band weight or matrix",
@@ -1128,30 +1159,22 @@ inline bool TableView::check_meaning(char* error, std::size_t error_size) const 
     double p[3];
     position(n, p);
     const float* s = spectra_ + slot;
-    double got[3] = {0, 0, 0}, spread = 0;
+    double got[3] = {0, 0, 0};
     for (std::uint32_t k = 0; k < bands_; ++k)
-      for (int c = 0; c < 3; ++c) {
-        const double v = s[k] * w[3 * k + c];
-        got[c] += v;
-        spread += std::abs(v);
-      }
-    if (!check(target(p), got, spread, "node", static_cast<unsigned long long>(n))) return false;
+      for (int c = 0; c < 3; ++c) got[c] += s[k] * w[3 * k + c];
+    if (!check(target(p), got, "node", static_cast<unsigned long long>(n))) return false;
     ++with_spectrum;
   }
   // Boundary vertices: 0/1 samples but two.
   const std::uint64_t nbv = h->sections[SPZ_SECTION_BOUNDARY_PICKS].count;
   for (std::uint64_t v = 0; v < nbv; ++v) {
-    double got[3] = {0, 0, 0}, spread = 0;
+    double got[3] = {0, 0, 0};
     const std::uint32_t ref = SPZ_BOUNDARY_BIT | static_cast<std::uint32_t>(v);
     for (std::uint32_t k = 0; k < bands_; ++k) {
       const double value = detail::vertex_value(*this, ref, k);
-      for (int c = 0; c < 3; ++c) {
-        got[c] += value * w[3 * k + c];
-        spread += std::abs(value * w[3 * k + c]);
-      }
+      for (int c = 0; c < 3; ++c) got[c] += value * w[3 * k + c];
     }
-    if (!check(target(bpos_ + 3 * v), got, spread, "boundary vertex",
-               static_cast<unsigned long long>(v)))
+    if (!check(target(bpos_ + 3 * v), got, "boundary vertex", static_cast<unsigned long long>(v)))
       return false;
   }
   // Emission: no sample beyond what a spectrum of X+Y+Z = 1 can hold (1 / the band's X+Y+Z
@@ -1469,51 +1492,96 @@ inline bool TableView::fast_blend(const float u[3], Spectrum& s) const noexcept 
 }
 
 #if defined(__SSE2__)
+inline bool TableView::squared_axes(std::uint32_t& zero_node, float& steps) const noexcept {
+  std::uint32_t common = 0;
+  std::uint64_t offset = 0, reach = 0;
+  for (int a = 0; a < 3; ++a) {
+    const float* x = axis_[a];
+    std::uint32_t j = 0;
+    while (j < n_[a] && x[j] < 0) ++j;
+    if (j + 1 >= n_[a] || x[j] != 0 || !(x[j + 1] > 0)) return false;
+    const double s = std::round(1 / std::sqrt(static_cast<double>(x[j + 1])));
+    if (!(s >= 1 && s <= 4096) || (common && s != common)) return false;
+    common = static_cast<std::uint32_t>(s);
+    if (j + common >= n_[a]) return false;
+    for (std::uint32_t k = 0; k <= common; ++k) {
+      const double r = static_cast<double>(k) / common;
+      if (x[j + k] != static_cast<float>(r * r)) return false;
+    }
+    offset += j * stride_[a];
+    reach += (common - 1) * stride_[a];
+  }
+  // The offsets are summed in float: exact below 2^24.
+  if (offset + reach >= (1u << 24)) return false;
+  zero_node = static_cast<std::uint32_t>(offset);
+  steps = static_cast<float>(common);
+  return true;
+}
+
 // fast_blend<3> with the three axes in SSE lanes: the same cells, vertices and weights.
 template <bool kBoundary>
 inline bool TableView::fast_blend_sse(const float rgb[3], Spectrum& s) const noexcept {
   const Lanes& L = lanes_;
-  const __m128 zero = _mm_setzero_ps();
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 v = _mm_movelh_ps(_mm_loadl_pi(zero, reinterpret_cast<const __m64*>(rgb)),
                                  _mm_load_ss(rgb + 2));  // r, g, b, 0
-  // Inside the grid (NaN is not); lane 3's 0 is inside [0, 0].
-  const bool inside = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, _mm_load_ps(L.lo)),
-                                                 _mm_cmple_ps(v, _mm_load_ps(L.hi)))) == 0xF;
-  // The bins of detail::axis_bin for every v up to the grid's end, clamped after the cast:
-  // SSE's conversion is defined for any float (NaN and beyond int32: 0x80000000, bin 0).
-  const __m128i last = _mm_load_si128(reinterpret_cast<const __m128i*>(L.last));
-  const __m128i raw =
-      _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(v, _mm_load_ps(L.origin)), _mm_load_ps(L.inv_bin)));
-  const __m128i above = _mm_cmpgt_epi32(raw, last);
-  const __m128i top = _mm_or_si128(_mm_and_si128(above, last), _mm_andnot_si128(above, raw));
-  const __m128i bin =
-      _mm_add_epi32(_mm_andnot_si128(_mm_cmplt_epi32(top, _mm_setzero_si128()), top),
-                    _mm_load_si128(reinterpret_cast<const __m128i*>(L.lut_at)));
-  // Each axis' bin and the next one (spz_axis_bin: node, split, position, inverse), in lanes:
-  // the node offset, position and inverse below the split, or above it (the next bin's),
-  // chosen by v >= split (a true compare is all bits).
-  const spz_axis_bin* lut = lut_[0];
-  const spz_axis_bin* b0 = lut + _mm_cvtsi128_si32(bin);
-  const spz_axis_bin* b1 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55));
-  const spz_axis_bin* b2 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xAA));
-  auto load = [](const spz_axis_bin* b) {  // 16 bytes; a view's data is only 8-byte aligned
-    return _mm_loadu_ps(reinterpret_cast<const float*>(b));
-  };
-  __m128 e0 = load(b0), e1 = load(b1), e2 = load(b2), e3 = zero;
-  __m128 n0 = load(b0 + 1), n1 = load(b1 + 1), n2 = load(b2 + 1), n3 = zero;
-  _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // node offsets, splits, positions, inverses
-  _MM_TRANSPOSE4_PS(n0, n1, n2, n3);  // the next bins'
-  const __m128 upper = _mm_cmpge_ps(v, e1);
-  const __m128i k = _mm_castps_si128(_mm_or_ps(_mm_and_ps(upper, n0), _mm_andnot_ps(upper, e0)));
-  const __m128 p = _mm_or_ps(_mm_and_ps(upper, n2), _mm_andnot_ps(upper, e2));
-  const __m128 inv = _mm_or_ps(_mm_and_ps(upper, n3), _mm_andnot_ps(upper, e3));
-  // The cell's lowest node: the three offsets added (lane 3 is 0).
-  const __m128i k2 = _mm_add_epi32(k, _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 0, 3, 2)));
-  const std::uint32_t base =
-      static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_add_epi32(k2, _mm_shuffle_epi32(k2, 0x55))));
-  // In [0, 1] for v inside (v >= p, the lookup's invariant) but for rounding above 1, which
-  // the first weight absorbs below (off the path to the vertices).
-  const __m128 f = _mm_mul_ps(_mm_sub_ps(v, p), inv);
+  __m128 f;
+  std::uint32_t base;
+  bool inside = true;
+  if (direct_ && _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, zero), _mm_cmple_ps(v, one))) == 0xF) {
+    // [0, 1] (NaN is not): the interval below v is k = floor(steps * sqrt(v)) but for
+    // rounding at a node, where f, clamped, is 0 or 1 of the neighbour: the same point.
+    const __m128 k = _mm_cvtepi32_ps(_mm_cvttps_epi32(
+        _mm_min_ps(_mm_mul_ps(_mm_sqrt_ps(v), _mm_load_ps(L.steps)), _mm_load_ps(L.last_k))));
+    // f = (v - (k / steps)^2) / ((2k + 1) / steps^2); k^2 and 2k + 1 are exact in float.
+    f = _mm_div_ps(_mm_sub_ps(_mm_mul_ps(v, _mm_load_ps(L.steps2)), _mm_mul_ps(k, k)),
+                   _mm_add_ps(_mm_add_ps(k, k), one));
+    f = _mm_min_ps(_mm_max_ps(f, zero), one);
+    // The cell's lowest node: black's plus k times each stride (exact in float, squared_axes).
+    __m128 o = _mm_mul_ps(k, _mm_load_ps(L.stride));
+    o = _mm_add_ps(o, _mm_movehl_ps(o, o));
+    o = _mm_add_ss(o, _mm_shuffle_ps(o, o, 0x55));
+    base = L.zero_node + static_cast<std::uint32_t>(_mm_cvttss_si32(o));
+  } else {
+    // Inside the grid (NaN is not); lane 3's 0 is inside [0, 0].
+    inside = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, _mm_load_ps(L.lo)),
+                                        _mm_cmple_ps(v, _mm_load_ps(L.hi)))) == 0xF;
+    // The bins of detail::axis_bin for every v up to the grid's end, clamped after the cast:
+    // SSE's conversion is defined for any float (NaN and beyond int32: 0x80000000, bin 0).
+    const __m128i last = _mm_load_si128(reinterpret_cast<const __m128i*>(L.last));
+    const __m128i raw =
+        _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(v, _mm_load_ps(L.origin)), _mm_load_ps(L.inv_bin)));
+    const __m128i above = _mm_cmpgt_epi32(raw, last);
+    const __m128i top = _mm_or_si128(_mm_and_si128(above, last), _mm_andnot_si128(above, raw));
+    const __m128i bin =
+        _mm_add_epi32(_mm_andnot_si128(_mm_cmplt_epi32(top, _mm_setzero_si128()), top),
+                      _mm_load_si128(reinterpret_cast<const __m128i*>(L.lut_at)));
+    // Each axis' bin and the next one (spz_axis_bin: node, split, position, inverse), in lanes:
+    // the node offset, position and inverse below the split, or above it (the next bin's),
+    // chosen by v >= split (a true compare is all bits).
+    const spz_axis_bin* lut = lut_[0];
+    const spz_axis_bin* b0 = lut + _mm_cvtsi128_si32(bin);
+    const spz_axis_bin* b1 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0x55));
+    const spz_axis_bin* b2 = lut + _mm_cvtsi128_si32(_mm_shuffle_epi32(bin, 0xAA));
+    auto load = [](const spz_axis_bin* b) {  // 16 bytes; a view's data is only 8-byte aligned
+      return _mm_loadu_ps(reinterpret_cast<const float*>(b));
+    };
+    __m128 e0 = load(b0), e1 = load(b1), e2 = load(b2), e3 = zero;
+    __m128 n0 = load(b0 + 1), n1 = load(b1 + 1), n2 = load(b2 + 1), n3 = zero;
+    _MM_TRANSPOSE4_PS(e0, e1, e2, e3);  // node offsets, splits, positions, inverses
+    _MM_TRANSPOSE4_PS(n0, n1, n2, n3);  // the next bins'
+    const __m128 upper = _mm_cmpge_ps(v, e1);
+    const __m128i k = _mm_castps_si128(_mm_or_ps(_mm_and_ps(upper, n0), _mm_andnot_ps(upper, e0)));
+    const __m128 p = _mm_or_ps(_mm_and_ps(upper, n2), _mm_andnot_ps(upper, e2));
+    const __m128 inv = _mm_or_ps(_mm_and_ps(upper, n3), _mm_andnot_ps(upper, e3));
+    // The cell's lowest node: the three offsets added (lane 3 is 0).
+    const __m128i k2 = _mm_add_epi32(k, _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 0, 3, 2)));
+    base = static_cast<std::uint32_t>(
+        _mm_cvtsi128_si32(_mm_add_epi32(k2, _mm_shuffle_epi32(k2, 0x55))));
+    // In [0, 1] for v inside (v >= p, the lookup's invariant) but for rounding above 1, which
+    // the first weight absorbs below (off the path to the vertices).
+    f = _mm_mul_ps(_mm_sub_ps(v, p), inv);
+  }
   const std::uint32_t code = cells_[base];
   if (!inside | (code != 0)) {  // one branch for the common case
     if (!kBoundary || !inside || code == SPZ_OUTSIDE) return false;
