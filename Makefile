@@ -5,7 +5,7 @@ CMAKE_FLAGS ?=
 # The interpreter Debian's numpy, pybind11 and OpenImageIO bindings belong to.
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: all deps configure build test test-long demo bench install format format-check clean test-asan \
+.PHONY: all deps configure build test test-long demo bench install docs format format-check clean test-asan \
 	test-tsan fuzz figures validate docs-figures renders docs-renders test-platform
 FUZZ_SECONDS ?= 60
 
@@ -74,8 +74,13 @@ fuzz: deps
 # Installs into PREFIX (default /usr/local): the tool, the OIIO plugin, the OCIO config and
 # data, headers and CMake package of the core library, the Python module.
 PREFIX ?= /usr/local
-install: deps build
+install: deps build docs
 	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
+# The user guide (Sphinx, warnings as errors) into $(BUILD_DIR)/docs/html; the man page is
+# made by every build ($(BUILD_DIR)/docs/spectralize.1).
+docs: deps build
+	@cmake --build $(BUILD_DIR) --target docs
 
 demo: deps build
 	@bash cmake/demo.sh $(BUILD_DIR)

@@ -15,6 +15,8 @@ packages=(
   slurmctld slurmd slurm-client munge
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
   python3-matplotlib
+  python3-sphinx python3-myst-parser python3-sphinx-rtd-theme man-db groff-base
+  chromium python3-websocket
   debootstrap
 )
 

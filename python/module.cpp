@@ -544,5 +544,6 @@ PYBIND11_MODULE(spectralize, m) {
             .c_str());
   add_rt_module(m);
   m.def("models", &models,
-        "models() -> list of dicts (name, summary, default): the spectrum models for model=.");
+        "models() -> list of dicts (name, summary, default): the spectrum models for model=.\n"
+        "No arguments. Cost: O(models).");
 }

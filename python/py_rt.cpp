@@ -98,12 +98,12 @@ void add_rt_module(py::module_& m) {
       .def_property_readonly(
           "mode",
           [](const RtTable& t) { return t.view().reflectance() ? "reflectance" : "emission"; },
-          "'reflectance' or 'emission'.")
+          "'reflectance' or 'emission'. Cost: O(1).")
       .def_property_readonly(
           "colorspace", [](const RtTable& t) { return std::string(t.view().header().colorspace); },
-          "The OCIO colour space the table's RGB belongs to.")
+          "The OCIO colour space the table's RGB belongs to. Cost: O(1).")
       .def_property_readonly("wavelengths", &RtTable::wavelengths,
-                             "The table's bands in nm, (N,) float64.")
+                             "The table's bands in nm, (N,) float64. Cost: O(N).")
       .def("spectra", &RtTable::spectra, py::arg("rgb"), py::kw_only(),
            py::arg("wavelengths") = py::none(), py::arg("threads") = 0,
            "spectra(rgb, *, wavelengths=None, threads=0) -> (values, counts)\n\n"

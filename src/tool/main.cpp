@@ -19,6 +19,7 @@
 #include "spectralize/version.h"
 #include "text/strings.h"
 #include "tool/flags.h"
+#include "tool/help.h"
 #include "tool/options.h"
 
 using namespace spectralize;
@@ -26,163 +27,11 @@ using namespace spectralize::tool;
 
 namespace {
 
-// Flags that are not settings: what to do and where to write. Each lists its commands.
-struct CommandFlag {
-  const char* flag;
-  const char* metavar;
-  unsigned commands;
-  const char* help;
-};
-constexpr unsigned kPlots = kPlotColor | kPlotPixel;
-constexpr CommandFlag kCommandFlags[] = {
-    {"-o", "FILE", kImage | kToRgb | kColor | kPlots | kIngest | kTable,
-     "The file to write: the spectral OpenEXR (images), the RGB image (--to-rgb), a plot "
-     "(.png, .svg, ...), the printed spectra (--color: .csv, .json), the folder ingest "
-     "writes into, or the table (NAME.spztab)"},
-    {"--inputs-from", "FILE", kIngest,
-     "ingest: a list of inputs, one per line: a path, or a JSON object with \"input\" and any "
-     "single-file setting for it"},
-    {"--manifest", "FILE", kIngest,
-     "ingest: the JSON Lines record of what happened (default: DESTDIR/spectralize-ingest.jsonl, "
-     "or a part per shard)"},
-    {"--shard", "I/N", kIngest,
-     "ingest: do shard I (0-based) of N of the batch (default from SLURM_ARRAY_TASK_ID and "
-     "SLURM_ARRAY_TASK_COUNT when set)"},
-    {"--to-rgb", "FILE", kToRgb,
-     "Integrate a spectral OpenEXR (S0 or T channels, any writer's) back to RGB(A)"},
-    {"--color", "R,G,B", kColor | kPlotColor,
-     "Spectralize a colour (repeatable); prints CSV or JSON, or plots with -o PLOT.png"},
-    {"--plot-pixel", "X,Y", kPlotPixel,
-     "Plot the spectrum of pixel X,Y (0-based, top-left) of a spectral EXR (repeatable)"},
-    {"--report", "FILE", kImage | kToRgb,
-     "Write a JSON report (colour space and why, counts by kind, errors, cache, timings); "
-     "/dev/stdout works"},
-};
-
-std::string command_name(Command c) {
-  switch (c) {
-    case kImage:
-      return "an image conversion (INPUT -o OUTPUT.exr)";
-    case kToRgb:
-      return "--to-rgb";
-    case kColor:
-      return "--color";
-    case kPlotColor:
-      return "a --color plot";
-    case kPlotPixel:
-      return "--plot-pixel";
-    case kIngest:
-      return "ingest";
-    case kTable:
-      return "table";
-  }
-  return "this command";
-}
-
-std::string commands_list(unsigned commands) {
-  std::string out;
-  const std::pair<unsigned, const char*> names[] = {
-      {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
-      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
-      {kTable, "table"}};
-  for (const auto& [bit, name] : names)
-    if ((commands & bit) && !(bit == kPlotColor && (commands & kColor)))
-      out += (out.empty() ? "" : ", ") + std::string(name);
-  return out;
-}
-
 int terminal_width() {
   struct winsize w = {};
   if (::isatty(STDOUT_FILENO) && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 40)
     return w.ws_col;
   return 100;
-}
-
-// "  --flag VALUE   text..." with the text wrapped at the terminal's width.
-void print_entry(const std::string& left, const std::string& text, int width) {
-  constexpr std::size_t kColumn = 26;
-  std::string line = "  " + left;
-  line += line.size() + 1 < kColumn ? std::string(kColumn - line.size(), ' ')
-                                    : "\n" + std::string(kColumn, ' ');
-  std::size_t col = line.size() - line.rfind('\n') - 1;
-  if (line.rfind('\n') == std::string::npos) col = line.size();
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find(' ', pos);
-    if (end == std::string::npos) end = text.size();
-    const std::string word = text.substr(pos, end - pos);
-    if (col + word.size() + 1 > static_cast<std::size_t>(width) && col > kColumn) {
-      line += "\n" + std::string(kColumn, ' ');
-      col = kColumn;
-    } else if (col > kColumn) {
-      line += ' ';
-      ++col;
-    }
-    line += word;
-    col += word.size();
-    pos = end + 1;
-  }
-  fmt::print("{}\n", line);
-}
-
-void print_help() {
-  const int width = terminal_width();
-  fmt::print(
-      "spectralize " SPECTRALIZE_VERSION
-      " -- exact RGB-to-spectrum conversion (Zhdanov & Potemin)\n"
-      "Every spectrum reproduces its input colour exactly, is non-negative, and a reflectance "
-      "stays <= 1.\n\n"
-      "Usage:\n"
-      "  spectralize INPUT -o OUTPUT.exr [options]             an RGB image to a spectral "
-      "OpenEXR\n"
-      "  spectralize --to-rgb IN.exr -o OUT.exr [options]      a spectral OpenEXR to RGB(A)\n"
-      "  spectralize --color R,G,B [--color ...] [options]     spectra of colours (CSV, JSON)\n"
-      "  spectralize --color R,G,B [...] -o PLOT.png|PLOT.svg  a plot of their spectra\n"
-      "  spectralize --plot-pixel X,Y IN.exr -o PLOT.png       a plot of a pixel of a "
-      "spectral EXR\n"
-      "  spectralize ingest SRC... -o DESTDIR [options]        a texture library (files, folders,\n"
-      "                                                        globs) to spectral OpenEXR\n"
-      "  spectralize table -o NAME.spztab [options]            a render-time table of exact\n"
-      "                                                        spectra (spectralize/rt.h)\n\n"
-      "Flags by command:\n");
-  const std::pair<unsigned, const char*> groups[] = {
-      {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
-      {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
-      {kTable, "table"}};
-  for (const auto& [command, name] : groups) {
-    std::string flags;
-    for (const CommandFlag& f : kCommandFlags)
-      if (f.commands & command) flags += std::string(flags.empty() ? "" : " ") + f.flag;
-    for (const SettingSpec& spec : settings_schema())
-      if (spec.applies(static_cast<Command>(command)) && flags.find(spec.flag) == std::string::npos)
-        flags.append(" ").append(spec.flag);
-    print_entry(name, flags + " -v -q", width);
-  }
-  fmt::print("\nCommands and outputs:\n");
-  for (const CommandFlag& f : kCommandFlags)
-    print_entry(std::string(f.flag) + " " + f.metavar, f.help, width);
-  fmt::print("\nSettings [default] (commands they apply to):\n");
-  const Settings defaults;
-  for (const SettingSpec& s : settings_schema()) {
-    std::string value = s.default_text.empty() ? s.format(defaults) : std::string(s.default_text);
-    std::string flag = std::string(s.flag) + " " + std::string(s.metavar);
-    if (!s.alias.empty()) flag = std::string(s.alias) + ", " + flag;
-    print_entry(flag, std::string(s.help) + " [" + value + "] (" + commands_list(s.commands) + ")",
-                width);
-  }
-  fmt::print("\nGeneral:\n");
-  print_entry("-v", "Verbose: stages, colour-space choice, cache statistics", width);
-  print_entry("-q", "Quiet: no progress, summary or warnings", width);
-  print_entry("-h, --help", "Print this help and exit", width);
-  print_entry("--version",
-              "Print the version (and the OpenImageIO, OpenColorIO and OpenEXR it uses) and exit",
-              width);
-  print_entry("--", "Everything after it is an input file, even if it starts with '-'", width);
-  print_entry("--force", "ingest: convert even what is up to date", width);
-  print_entry("--merge", "ingest: merge the shards' manifests of -o DESTDIR into one", width);
-  fmt::print(
-      "\nExit status: 0 done (warnings on stderr), 1 the job failed (the message names the "
-      "file), 2 a wrong command line.\n");
 }
 
 // Binds a flag to the list of (flag, value) pairs; validation happens once the command is
@@ -195,7 +44,7 @@ using Given = std::vector<std::pair<std::string, std::string>>;
 
 // Parses argv with OIIO's ArgParse into (flag, value) pairs and positional inputs; "--" ends
 // the options (what follows are input files, whatever their names). Throws UsageError.
-Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& version) {
+Given read_flags(int argc, const char** argv, Options& opt, std::string& help, bool& version) {
   std::vector<const char*> args;
   std::vector<std::string> after_dashes;
   std::vector<std::string> merged;  // "--tile W H" as oiiotool spells it becomes "--tile W,H"
@@ -222,8 +71,11 @@ Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& ve
   ap.arg("filename").hidden().action([&](OIIO::cspan<const char*> a) {
     opt.inputs.emplace_back(a[0]);
   });
-  ap.arg("--help").hidden().action([&](OIIO::cspan<const char*>) { help = true; });
-  ap.arg("-h").hidden().action([&](OIIO::cspan<const char*>) { help = true; });
+  ap.arg("--help").hidden().action([&](OIIO::cspan<const char*>) { help = "text"; });
+  ap.arg("-h").hidden().action([&](OIIO::cspan<const char*>) { help = "text"; });
+  // The same reference as a man page and as the guide's chapter (what the build installs).
+  ap.arg("--help-man").hidden().action([&](OIIO::cspan<const char*>) { help = "man"; });
+  ap.arg("--help-markdown").hidden().action([&](OIIO::cspan<const char*>) { help = "markdown"; });
   ap.arg("--version").hidden().action([&](OIIO::cspan<const char*>) { version = true; });
   ap.arg("-v").hidden().action([&](OIIO::cspan<const char*>) {
     opt.verbosity = 2;
@@ -241,7 +93,7 @@ Given read_flags(int argc, const char** argv, Options& opt, bool& help, bool& ve
     opt.merge = true;
     opt.given.insert("--merge");
   });
-  for (const CommandFlag& f : kCommandFlags)
+  for (const CommandFlag& f : command_flags())
     ap.arg((std::string(f.flag) + " " + f.metavar).c_str()).hidden().action(store(given, f.flag));
   std::set<std::string> registered;
   for (const SettingSpec& s : settings_schema())
@@ -296,7 +148,7 @@ Command choose_command(Options& opt) {
 void apply_flags(const Given& given, Options& opt) {
   for (const auto& [flag, value] : given) {
     bool command_flag = false;
-    for (const CommandFlag& f : kCommandFlags)
+    for (const CommandFlag& f : command_flags())
       if (flag == f.flag) {
         command_flag = true;
         if (!(f.commands & opt.command))
@@ -312,9 +164,9 @@ void apply_flags(const Given& given, Options& opt) {
 }
 
 // Reads the command line into `opt`; throws UsageError.
-void parse(int argc, const char** argv, Options& opt, bool& help, bool& version) {
+void parse(int argc, const char** argv, Options& opt, std::string& help, bool& version) {
   const Given given = read_flags(argc, argv, opt, help, version);
-  if (help || version) return;
+  if (!help.empty() || version) return;
   for (const auto& [flag, value] : given) {
     opt.given.insert(flag);
     if (flag == "--color") opt.colors.push_back(value);
@@ -342,11 +194,14 @@ int main(int argc, const char** argv) {
   // No output of this run replaces a file it reads (docs/DESIGN.md §9).
   const ReadFileScope reads;
   Options opt;
-  bool help = false, version = false;
+  std::string help;  // "text", "man" or "markdown"
+  bool version = false;
   try {
     parse(argc, argv, opt, help, version);
-    if (help) {
-      print_help();
+    if (!help.empty()) {
+      fmt::print("{}", help == "man"        ? help_man()
+                       : help == "markdown" ? help_markdown()
+                                            : help_text(terminal_width()));
       check_stdout();
       return kExitOk;
     }

@@ -27,12 +27,20 @@ for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
          lib/libspectralize_rt.a lib/libspectralize_rt.so lib/pkgconfig/spectralize-rt.pc \
          lib/cmake/spectralize/spectralizeConfig.cmake \
          lib/cmake/spectralize/spectralizeConfigVersion.cmake \
-         share/doc/spectralize/spectralize-help.txt \
+         share/doc/spectralize/spectralize-help.txt share/man/man1/spectralize.1 \
          "lib/python$py_version/dist-packages/spectralize.cpython-${py_version/./}-x86_64-linux-gnu.so"; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
 grep -q -- "--wavelengths" "$prefix/share/doc/spectralize/spectralize-help.txt" ||
   fail "the installed help text does not list the flags"
+# The man page (made by every build) and the HTML guide (when built: make docs, make install).
+MANWIDTH=120 man -l "$prefix/share/man/man1/spectralize.1" 2>/dev/null | grep -q -- "--rgb-to-xyz" ||
+  fail "the installed man page does not render with its flags"
+if [ -f "$build/docs/html/index.html" ]; then
+  [ -f "$prefix/share/doc/spectralize/html/index.html" ] &&
+    [ -f "$prefix/share/doc/spectralize/html/guide/flags.html" ] ||
+    fail "the built guide is not installed under share/doc/spectralize/html"
+fi
 # The C library: its SONAME is the table format's version; it needs nothing but libc and libm
 # and exports nothing but the C API.
 so_name="$(readelf -d "$prefix/lib/libspectralize_rt.so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')"

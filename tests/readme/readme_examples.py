@@ -16,7 +16,8 @@ any line that starts the same way; a line "..." skips any lines; JSON output is 
 key, numbers to 1e-12 relative (arrays shown with "..." compare their first elements). Blocks of top-level `make` commands
 are skipped (this script is run by `make test`).
 
-Usage: readme_examples.py README.md BUILD_DIR SOURCE_DIR
+Usage: readme_examples.py DOC.md [DOC.md...] BUILD_DIR SOURCE_DIR
+(several documents run as one, in the order given, in one working folder)
 """
 import json
 import os
@@ -123,8 +124,8 @@ def run(command, cwd, env):
 
 
 def main():
-    readme, build, source = sys.argv[1:4]
-    text = open(readme, encoding="utf-8").read()
+    *docs, build, source = sys.argv[1:]
+    text = "\n".join(open(d, encoding="utf-8").read() for d in docs)
     work = tempfile.mkdtemp(prefix="spectralize_readme_")
     env = dict(os.environ)
     env.pop("OCIO", None)
@@ -187,7 +188,7 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
     for f in failures:
         print("FAILED:", f, "\n", file=sys.stderr)
-    print(f"{checked} README examples run, {len(failures)} failed")
+    print(f"{checked} examples run, {len(failures)} failed")
     return 1 if failures or checked == 0 else 0
 
 

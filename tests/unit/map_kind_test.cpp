@@ -277,9 +277,10 @@ TEST(MapKind, EditsExtendReplaceOrRemoveWords) {
   }
 }
 
-// The README lists the table: every word with its kind and place, as the code has it.
+// The guide lists the table (docs/guide/pipeline.md): every word with its kind and place, as
+// the code has it.
 TEST(MapKind, TheReadmeTableIsTheCodesTable) {
-  std::ifstream f(SPECTRALIZE_SOURCE_DIR "/README.md");
+  std::ifstream f(SPECTRALIZE_SOURCE_DIR "/docs/guide/pipeline.md");
   std::stringstream ss;
   ss << f.rdbuf();
   const std::string readme = ss.str();
