@@ -93,7 +93,7 @@ figures: deps build
 validate: deps build
 	@$(BUILD_DIR)/spectralize_figures validate $(BUILD_DIR)/validation
 
-# Refreshes the README's copies in docs/figures/ (plots as made, spheres and maps at 256 px).
+# Refreshes the guide's copies in docs/figures/ (plots as made, spheres and maps at 256 px).
 docs-figures: figures
 	@mkdir -p docs/figures
 	@cp $(BUILD_DIR)/figures/fig1_light_spectrum.png $(BUILD_DIR)/figures/fig3_surface_spectrum.png docs/figures/

@@ -24,6 +24,8 @@ if(SPHINX_BUILD_EXECUTABLE)
     COMMAND ${CMAKE_COMMAND} -E copy_directory "${PROJECT_SOURCE_DIR}/docs" "${guide_source}"
     COMMAND sh -c "\"$1\" --help-markdown > \"$2\"" flags "$<TARGET_FILE:spectralize>"
             "${guide_source}/guide/flags.md"
+    COMMAND sh -c "mkdir -p \"$2\" && for c in image to-rgb color plot plot-pixel ingest table; do \"$1\" --help-markdown-for $c > \"$2/$c.md\" || exit 1; done"
+            flags "$<TARGET_FILE:spectralize>" "${guide_source}/guide/flags"
     COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${PROJECT_BINARY_DIR}/python"
             ${SPHINX_BUILD_EXECUTABLE} -W --keep-going -q -b html -d "${SPECTRALIZE_DOCS_DIR}/doctrees"
             "${guide_source}" "${SPECTRALIZE_DOCS_DIR}/html"

@@ -36,7 +36,8 @@
 
 namespace spectralize {
 
-/// Node spacing of an exact table (docs/DESIGN.md §14, chosen by measurement; see README).
+/// Node spacing of an exact table (docs/DESIGN.md §14, chosen by measurement; see
+/// docs/guide/conventions.md).
 struct TableResolution {
   int steps = 24;          // reflectance: node intervals on [0, 1] per axis, at (k / steps)^2
   int coarse_steps = 8;    // reflectance: outside [0, 1], at least this many per unit

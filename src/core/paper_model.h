@@ -16,8 +16,8 @@ class PaperModel final : public SpectrumModel {
   explicit PaperModel(const ModelContext& context);
 
   /// The filtered average, made exact and bounded; details: admissible (L), dropped (K),
-  /// bounded (the projection changed it to meet the bound), edge_capped (see README "Edge
-  /// filter"). Thread-safe. Cost: O(N^2 + L), ~40 us at 5 nm.
+  /// bounded (the projection changed it to meet the bound), edge_capped (see the guide's
+  /// "Edge filter", docs/guide/conventions.md). Thread-safe. Cost: O(N^2 + L), ~40 us at 5 nm.
   ModelSolution solve(const Xyz& target, double upper) const override;
 
  private:

@@ -175,7 +175,7 @@ Spread spread(std::vector<double> values);
 /// RMS of the second differences x[i-1] - 2 x[i] + x[i+1]. Cost: O(N).
 double roughness(const std::vector<double>& x);
 
-/// The edge-peak figure of the README's filter study: the largest sample within 20 nm of
+/// The edge-peak figure of the guide's filter study: the largest sample within 20 nm of
 /// either end of the grid over the mean of the samples in 400..700 nm. Cost: O(N).
 double edge_ratio(const WavelengthGrid& grid, const std::vector<double>& x);
 

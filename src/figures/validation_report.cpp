@@ -57,7 +57,7 @@ constexpr const char* kDefinitions[][2] = {
     {"roughness", "RMS of the second differences x[i-1] - 2 x[i] + x[i+1] over the grid (5 nm)"},
     {"edge_ratio",
      "the largest sample within 20 nm of either end of the grid over the mean of "
-     "the samples in 400..700 nm (the README's edge-peak figure)"},
+     "the samples in 400..700 nm (the guide's edge-peak figure)"},
     {"relative_xyz_error",
      "max |XYZ - target| / max |target|, XYZ by the reference integration "
      "(1 nm CIE tables, piecewise-linear spectrum)"},

@@ -16,7 +16,7 @@ std::string validation_json(const Validation& results);
 std::string validation_markdown(const Validation& results);
 
 /// The reflectance summary as a Markdown table, a row per configuration and space, then the
-/// RGB renderer's rows (also printed by run_validation and quoted in the README).
+/// RGB renderer's rows (also printed by run_validation and quoted in the guide).
 /// Cost: O(results).
 std::string summary_table(const Validation& results);
 

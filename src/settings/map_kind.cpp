@@ -352,8 +352,9 @@ std::vector<EditItem> parse_edit(std::string_view text, bool colour) {
           found || (w.word == e.word && (colour ? w.kind == K::reflectance || w.kind == K::emission
                                                 : w.kind == K::data || w.kind == K::data_if_grey));
     if (!found)
-      throw Error("-" + e.word + ": not a " + (colour ? "colour" : "data") +
-                  " word of the table (see README, In a studio pipeline)");
+      throw Error(
+          "-" + e.word + ": not a " + (colour ? "colour" : "data") +
+          " word of the table (see 'In a studio pipeline' in the guide, docs/guide/pipeline.md)");
   }
   return items;
 }

@@ -39,7 +39,8 @@ struct NameWord {
   std::string ambiguity;  // what else it can mean, for warnings ("" if nothing)
 };
 
-/// The built-in table (README "In a studio pipeline" lists it). Cost: O(1).
+/// The built-in table (the guide's "In a studio pipeline" (docs/guide/pipeline.md) lists it). Cost:
+/// O(1).
 std::span<const NameWord> builtin_name_words();
 
 /// Checks an edit of the table as --data-names (`colour` false) or --colour-names takes it:

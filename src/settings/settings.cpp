@@ -294,7 +294,7 @@ std::vector<SettingSpec> make_schema() {
          },
          [colour](const Settings& v) { return colour ? v.colour_names : v.data_names; },
          [colour](const Settings& v) { return !(colour ? v.colour_names : v.data_names).empty(); },
-         "the table in the README"});
+         "the name table of the guide's pipeline chapter"});
     // Decisions: recorded by what they resolve to for each file (its mode, or data skipped),
     // so a changed table redoes only the files it decides otherwise.
     s.back().shapes_file = false;

@@ -274,4 +274,31 @@ std::string help_markdown() {
   return out;
 }
 
+const std::vector<std::pair<std::string, Command>>& command_pages() {
+  static const std::vector<std::pair<std::string, Command>> pages = {
+      {"image", kImage},          {"to-rgb", kToRgb},  {"color", kColor}, {"plot", kPlotColor},
+      {"plot-pixel", kPlotPixel}, {"ingest", kIngest}, {"table", kTable}};
+  return pages;
+}
+
+std::string help_markdown_for(Command command) {
+  std::string out = "| Flag | What it does | Default |\n|---|---|---|\n";
+  auto row = [&out](const std::string& flag, std::string_view text, const std::string& value) {
+    out += "| `" + escaped_pipes(flag) + "` | " + markdown(text) + " | " +
+           (value.empty() ? std::string() : "`" + escaped_pipes(value) + "`") + " |\n";
+  };
+  for (const CommandFlag& f : command_flags())
+    if (f.commands & command) row(std::string(f.flag) + " " + f.metavar, f.help, "");
+  const Settings defaults;
+  for (const SettingSpec& s : settings_schema()) {
+    if (!s.applies(command)) continue;
+    std::string flag = std::string(s.flag) + " " + std::string(s.metavar);
+    if (!s.alias.empty()) flag = std::string(s.alias) + ", " + flag;
+    row(flag, s.help, s.default_text.empty() ? s.format(defaults) : std::string(s.default_text));
+  }
+  row("-v", "Verbose: stages, colour-space choice, cache statistics", "");
+  row("-q", "Quiet: no progress, summary or warnings", "");
+  return out;
+}
+
 }  // namespace spectralize::tool

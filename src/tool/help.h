@@ -59,4 +59,12 @@ std::string help_man();
 /// The reference as a Markdown chapter of the guide. Cost: O(settings).
 std::string help_markdown();
 
+/// The commands by the names `--help-markdown-for` takes ("image", "to-rgb", "color", "plot",
+/// "plot-pixel", "ingest", "table"), with their bits. Cost: O(1).
+const std::vector<std::pair<std::string, Command>>& command_pages();
+
+/// Every flag of one command as a Markdown table (flag, what it does, default), for that
+/// command's chapter of the guide. Cost: O(settings).
+std::string help_markdown_for(Command command);
+
 }  // namespace spectralize::tool

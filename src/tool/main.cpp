@@ -1,4 +1,4 @@
-// spectralize: RGB colours and images to exact spectra (see README.md).
+// spectralize: RGB colours and images to exact spectra (see README.md and the guide in docs/).
 
 #include <OpenImageIO/argparse.h>
 #include <OpenImageIO/oiioversion.h>
@@ -26,6 +26,13 @@ using namespace spectralize;
 using namespace spectralize::tool;
 
 namespace {
+
+// The command `--help-markdown-for NAME` names; a UsageError for another name.
+Command command_page(const std::string& name) {
+  for (const auto& [page, command] : command_pages())
+    if (page == name) return command;
+  throw UsageError{"--help-markdown-for '" + name + "': not a command's page"};
+}
 
 int terminal_width() {
   struct winsize w = {};
@@ -76,6 +83,9 @@ Given read_flags(int argc, const char** argv, Options& opt, std::string& help, b
   // The same reference as a man page and as the guide's chapter (what the build installs).
   ap.arg("--help-man").hidden().action([&](OIIO::cspan<const char*>) { help = "man"; });
   ap.arg("--help-markdown").hidden().action([&](OIIO::cspan<const char*>) { help = "markdown"; });
+  ap.arg("--help-markdown-for %s:COMMAND").hidden().action([&](OIIO::cspan<const char*> a) {
+    help = std::string("markdown:") + a[1];
+  });
   ap.arg("--version").hidden().action([&](OIIO::cspan<const char*>) { version = true; });
   ap.arg("-v").hidden().action([&](OIIO::cspan<const char*>) {
     opt.verbosity = 2;
@@ -201,7 +211,9 @@ int main(int argc, const char** argv) {
     if (!help.empty()) {
       fmt::print("{}", help == "man"        ? help_man()
                        : help == "markdown" ? help_markdown()
-                                            : help_text(terminal_width()));
+                       : help.rfind("markdown:", 0) == 0
+                           ? help_markdown_for(command_page(help.substr(9)))
+                           : help_text(terminal_width()));
       check_stdout();
       return kExitOk;
     }

@@ -1,7 +1,7 @@
-// Measures the edge-peak filter's trade-off for choosing its default (README "Edge filter"):
-// for each drop fraction, the worst edge peak (largest sample in 380-400 or 760-780 nm over the
-// mean in 400-700 nm) and the roughness (RMS of second differences over the mean) of emission
-// spectra of the paper's light and of random sRGB colours (fixed seed).
+// Measures the edge-peak filter's trade-off for choosing its default (the guide's "Edge filter"
+// (docs/guide/conventions.md)): for each drop fraction, the worst edge peak (largest sample in
+// 380-400 or 760-780 nm over the mean in 400-700 nm) and the roughness (RMS of second differences
+// over the mean) of emission spectra of the paper's light and of random sRGB colours (fixed seed).
 // Run: build/tests/bench/filter_study [colours=2000]
 
 #include <algorithm>

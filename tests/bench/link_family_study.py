@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The natural model's cross-check (README, "Models"): would a tuned link beat the untuned tanh?
+"""The natural model's cross-check (docs/guide/conventions.md, "Models"): would a tuned link
+beat the untuned tanh?
 
 For a one-parameter family of sigmoid links, sigma_p(z) = 1/2 + z / (2 (1 + |z|^p)^(1/p))
 (p = 2 is rgb2spec's sigmoid), and for the shipped tanh link, reconstructs each measured

@@ -54,7 +54,8 @@ struct Method {
 // linearised constraints W diag(rho) (y' - y) = target - W rho with the same QP solver, in
 // z = -y' >= 0. Starts from the linear smooth spectrum (floored at 1e-4); full steps unless the
 // constraint error grows tenfold (then halved). Converges here on all 24 patches; on random
-// saturated colours it often does not (see README "Models"), which is why it is not shipped.
+// saturated colours it often does not (see the guide's "Models" (docs/guide/conventions.md)), which
+// is why it is not shipped.
 std::vector<double> log_smooth(const Spectralizer& linear, const Xyz& target, double tau,
                                bool& converged) {
   const auto& c = linear.weights().columns();

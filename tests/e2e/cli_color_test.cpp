@@ -216,8 +216,9 @@ TEST(CliColor, OutOfGamutColoursAreMappedAndReported) {
 }
 
 TEST(CliColor, NegativeLuminanceIsOutOfGamutAndMappedToBlackAsInImages) {
-  // No light or surface has Y < 0: as a pixel of an image is (README "Conventions"), the colour
-  // is out of gamut, mapped to black (the zero spectrum) with a warning, and the job is done.
+  // No light or surface has Y < 0: as a pixel of an image is (the guide's "Conventions"
+  // (docs/guide/conventions.md)), the colour is out of gamut, mapped to black (the zero spectrum)
+  // with a warning, and the job is done.
   auto r = run("--color 0.1,-0.2,0.1 --colorspace CIE-XYZ-D65 --format json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("negative luminance"), std::string::npos) << r.err;

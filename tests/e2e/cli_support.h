@@ -113,7 +113,7 @@ inline nlohmann::json read_json(const std::string& path) {
 }
 
 /// The temporary files of an interrupted run in the folder, named
-/// ".<output>.spectralize-XXXXXX.tmp" (README "Files and guarantees").
+/// ".<output>.spectralize-XXXXXX.tmp" (the guide's "Files and guarantees" (docs/guide/files.md)).
 inline std::vector<std::string> temporaries(const Scratch& s) {
   static const std::regex temporary(R"(^\..*\.spectralize-[A-Za-z0-9]{6}\.tmp$)");
   std::vector<std::string> out;

@@ -1,11 +1,12 @@
-// Colour metadata through the real binary (README "Files and guarantees", Metadata tells the
-// truth; README "Honest colour tags"): written RGB carries the tags of its own colour space (the
-// previews, --to-rgb's EXR chromaticities and interop IDs, the ICC profiles of TIFF, PNG and
-// JPEG), and a format with no slot for the space gets a counted warning; an input's ICC profile
-// or PNG gamma is honoured or named with the space assumed; channel sets that are not colour
-// and spectral or bispectral files are refused where colour is expected; reflectances stay <= 1
-// bit-exactly in float files. The oracles are OIIO reading the files back and an independent
-// reading of their ICC profiles.
+// Colour metadata through the real binary (the guide's "Files and guarantees"
+// (docs/guide/files.md), Metadata tells the truth; the guide's "Honest colour tags"
+// (docs/guide/pipeline.md)): written RGB carries the tags of its own colour space (the previews,
+// --to-rgb's EXR chromaticities and interop IDs, the ICC profiles of TIFF, PNG and JPEG), and a
+// format with no slot for the space gets a counted warning; an input's ICC profile or PNG gamma is
+// honoured or named with the space assumed; channel sets that are not colour and spectral or
+// bispectral files are refused where colour is expected; reflectances stay <= 1 bit-exactly in
+// float files. The oracles are OIIO reading the files back and an independent reading of their ICC
+// profiles.
 
 #include <gtest/gtest.h>
 
@@ -148,11 +149,11 @@ IccRead read_icc(const std::string& file) {
   return r;
 }
 
-// Truth (README "Honest colour tags"): every RGB file --to-rgb writes says its colour space in what
-// its format holds, read back by OIIO: EXR chromaticities (also for encoded spaces) and
-// colorInteropID; TIFF, PNG and JPEG an ICC profile of the space's primaries, white and curve;
-// where the format cannot say it (Radiance HDR beyond linear Rec.709, a log curve in TIFF) a
-// counted warning names the file and what readers will assume.
+// Truth (the guide's "Honest colour tags" (docs/guide/pipeline.md)): every RGB file --to-rgb writes
+// says its colour space in what its format holds, read back by OIIO: EXR chromaticities (also for
+// encoded spaces) and colorInteropID; TIFF, PNG and JPEG an ICC profile of the space's primaries,
+// white and curve; where the format cannot say it (Radiance HDR beyond linear Rec.709, a log curve
+// in TIFF) a counted warning names the file and what readers will assume.
 TEST(ColourMetadata, EveryFormatSaysItsColourSpace) {
   Scratch s;
   ASSERT_EQ(run(kImages + "grey_ramp8.png -o " + (s / "g.exr") + " -q").exit_code, 0);

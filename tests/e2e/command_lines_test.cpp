@@ -1,5 +1,5 @@
-// Command lines and recipes through the real binary and stock oiiotool (README "Files and
-// guarantees", Command lines and recipes): empty values, flags of another command and long
+// Command lines and recipes through the real binary and stock oiiotool (the guide's "Files
+// and guarantees", Command lines and recipes): empty values, flags of another command and long
 // values are refused with exit 2 in a short message naming the slip; `--`-separated inputs and
 // 255-byte output names work and --help gives the real defaults; recipes refuse what the
 // command line refuses, naming the recipe, and a recipe over 64 KB is refused with a short
@@ -97,7 +97,7 @@ TEST(CommandLines, RecipesRefuseWhatTheCliRefuses) {
     EXPECT_NE(t.exit_code, 0) << recipe;
     EXPECT_NE(t.out.find("r.spectral"), std::string::npos) << t.out;
   }
-  // Recipes over 64 KB are refused (README), with a short message.
+  // Recipes over 64 KB are refused (docs/guide/files.md), with a short message.
   std::ofstream(s / "big.spectral")
       << "{\"source\": \"grey.png\", \"x\": \"" << std::string(70000, 'y') << "\"}";
   auto t = tool("oiiotool " + (s / "big.spectral") + " -o " + (s / "o.exr"));

@@ -1,5 +1,6 @@
-// Runs that repeat or share, through the real binary (README "Files and guarantees",
-// Determinism, Caches): with SOURCE_DATE_EPOCH set the file is byte-identical whatever
+// Runs that repeat or share, through the real binary (the guide's "Files and guarantees"
+// (docs/guide/files.md), Determinism, Caches): with SOURCE_DATE_EPOCH set the file is
+// byte-identical whatever
 // --threads, and a value it cannot hold is warned about and ignored; two processes sharing one
 // --cache both succeed and leave an intact file; a cache file that is poisoned, a directory, a
 // FIFO or a link to a device, and a --cache that is not a folder, are reported and bypassed, the

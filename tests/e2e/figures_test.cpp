@@ -108,7 +108,7 @@ double max_sample_difference(const std::string& a, const std::string& b) {
   return worst;
 }
 
-// Truth (README): the figures shown in the README are what `make docs-figures` makes from the
+// Truth (the guide): the figures shown in the guide are what `make docs-figures` makes from the
 // current code: the same pixels, and making them twice gives the same bytes. (Pixels, not
 // bytes, against the committed copies: each OpenImageIO writes its own PNG container, e.g. 3.x
 // adds an eXIf chunk and orders the colour chunks otherwise.)

@@ -1,9 +1,9 @@
-// README "Files and guarantees" through the real binary, one test per promise: no file of a
-// run replaces another or an input under any alias; an output called up to date is the file
-// the same settings would write now; names are bytes; the walk names what it leaves out; shard
-// specs and merges are checked; one exit-code policy; a file given twice is one input; the
-// per-file overhead of a batch. The oracles are the file system (bytes, identities, links),
-// the manifests read as strict JSON, and OIIO reading the outputs.
+// the guide's "Files and guarantees" (docs/guide/files.md) through the real binary, one test per
+// promise: no file of a run replaces another or an input under any alias; an output called up to
+// date is the file the same settings would write now; names are bytes; the walk names what it
+// leaves out; shard specs and merges are checked; one exit-code policy; a file given twice is one
+// input; the per-file overhead of a batch. The oracles are the file system (bytes, identities,
+// links), the manifests read as strict JSON, and OIIO reading the outputs.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -494,10 +494,10 @@ struct ExitCase {
   std::string message;  // a piece of stderr
 };
 
-// Truth (README "Exit status"): 2 for a command line that cannot be run as written (a value,
-// an unknown colour space on the command line, a shard), 1 for a job that could not be done (a
-// file or config that cannot be read, a file that cannot be written), the same in every command;
-// system errors carry the system's reason.
+// Truth (the guide's "Exit status" (docs/guide/files.md)): 2 for a command line that cannot be run
+// as written (a value, an unknown colour space on the command line, a shard), 1 for a job that
+// could not be done (a file or config that cannot be read, a file that cannot be written), the same
+// in every command; system errors carry the system's reason.
 TEST(Guarantees, ExitCodesFollowOnePolicy) {
   Scratch s;
   make_library(s);
@@ -589,10 +589,11 @@ TEST(Guarantees, OneFileGivenTwiceIsOneInput) {
 
 // --- The cost of a file ---
 
-// Truth (README "What a file costs"): a batch of tiny files costs little beyond their
-// conversion (one parse of the config, one decision per file): 300 copies of one 8x8 image,
-// whose node table is solved once, take under 9 ms of CPU per file, the process start included
-// (3.7 ms measured; each file's own config, decision and spectralizer made it 13 to 15 ms).
+// Truth (the guide's "What a file costs" (docs/guide/ingest.md)): a batch of tiny files costs
+// little beyond their conversion (one parse of the config, one decision per file): 300 copies of
+// one 8x8 image, whose node table is solved once, take under 9 ms of CPU per file, the process
+// start included (3.7 ms measured; each file's own config, decision and spectralizer made it 13 to
+// 15 ms).
 TEST(Guarantees, TinyFilesCostLittleEach) {
 #ifdef SPECTRALIZE_SANITIZED
   GTEST_SKIP() << "timing bounds do not apply under sanitizers";

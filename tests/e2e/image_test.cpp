@@ -589,9 +589,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadImage{"Grid", "{in} -o {dir}/o.exr --wavelengths 700:400:5", 2, "reversed"}),
     [](const auto& info) { return info.param.name; });
 
-// Truth (README "Files and guarantees"): a tiled input streams in the memory of a scanline one,
-// whatever its tile size: the strips follow the output's blocks, and only the current row of
-// input tiles (input channels only) is kept. Oracle: peak RSS of the same image stored both ways.
+// Truth (the guide's "Files and guarantees" (docs/guide/files.md)): a tiled input streams in the
+// memory of a scanline one, whatever its tile size: the strips follow the output's blocks, and only
+// the current row of input tiles (input channels only) is kept. Oracle: peak RSS of the same image
+// stored both ways.
 TEST(CliImage, TiledInputsStreamInTheMemoryOfScanlineOnes) {
 #ifdef SPECTRALIZE_SANITIZED
   GTEST_SKIP() << "peak memory is not meaningful under sanitizers (shadow memory)";

@@ -1,9 +1,9 @@
-// Input files through the real binary and stock OIIO tools (README "Files and guarantees",
-// Inputs): tiled, MIP-mapped and 65,536-pixel-wide inputs are read like any other, every command
-// giving the same pixels, in bounded memory; absurd, empty and oversized headers and inputs that
-// are not regular files are refused at once with a non-zero exit, naming the file, nothing
-// written. The oracles are OIIO reading the files, the exit status and message, wall time and
-// peak memory.
+// Input files through the real binary and stock OIIO tools (the guide's "Files and guarantees"
+// (docs/guide/files.md), Inputs): tiled, MIP-mapped and 65,536-pixel-wide inputs are read like any
+// other, every command giving the same pixels, in bounded memory; absurd, empty and oversized
+// headers and inputs that are not regular files are refused at once with a non-zero exit, naming
+// the file, nothing written. The oracles are OIIO reading the files, the exit status and message,
+// wall time and peak memory.
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

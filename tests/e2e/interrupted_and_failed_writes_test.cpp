@@ -1,9 +1,9 @@
-// Writes that fail or are interrupted, through the real binary (README "Files and guarantees",
-// Outputs are complete or absent, Interruptions): a file-size limit, a full disk (a small tmpfs
-// where this machine allows mounting one), /dev/full, a place that cannot be written and
-// standard output that cannot be written exit 1 naming the file; every signal whose default
-// action ends the process, sent during a long write, removes the temporary file and ends the
-// process with that signal; SIGKILL leaves only a recognisable temporary. The oracle is the
+// Writes that fail or are interrupted, through the real binary (the guide's "Files and guarantees"
+// (docs/guide/files.md), Outputs are complete or absent, Interruptions): a file-size limit, a full
+// disk (a small tmpfs where this machine allows mounting one), /dev/full, a place that cannot be
+// written and standard output that cannot be written exit 1 naming the file; every signal whose
+// default action ends the process, sent during a long write, removes the temporary file and ends
+// the process with that signal; SIGKILL leaves only a recognisable temporary. The oracle is the
 // file system: what is left at the destination and beside it.
 
 #include <fcntl.h>

@@ -1,10 +1,10 @@
-// Where outputs go, through the real binary (README "Files and guarantees", No file of a run
-// replaces another): a report never replaces an input, the output, the OCIO config, a link's
-// target that is one of them or a device, fails before any work in a missing folder, and
-// /dev/stdout, /dev/null, FIFOs and symbolic links work as they should; a link planted at a
-// temporary file's name is not followed; directories, FIFOs and devices named as outputs are
-// never replaced, and two runs to one destination leave one complete file. The oracles are the
-// file system (bytes, file types, links) and OIIO reading the outputs.
+// Where outputs go, through the real binary (the guide's "Files and guarantees"
+// (docs/guide/files.md), No file of a run replaces another): a report never replaces an input, the
+// output, the OCIO config, a link's target that is one of them or a device, fails before any work
+// in a missing folder, and /dev/stdout, /dev/null, FIFOs and symbolic links work as they should; a
+// link planted at a temporary file's name is not followed; directories, FIFOs and devices named as
+// outputs are never replaced, and two runs to one destination leave one complete file. The oracles
+// are the file system (bytes, file types, links) and OIIO reading the outputs.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

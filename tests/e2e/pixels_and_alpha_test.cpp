@@ -1,5 +1,6 @@
-// Pixel values through the real binary (README "Files and guarantees", Pixels; README "Alpha"):
-// NaN, infinite, negative and HALF-overflowing pixels, in images and in the spectral files
+// Pixel values through the real binary (the guide's "Files and guarantees" (docs/guide/files.md),
+// Pixels; the guide's "Alpha" (docs/guide/images.md)): NaN, infinite, negative and HALF-overflowing
+// pixels, in images and in the spectral files
 // --to-rgb reads, become finite samples, counted in the report and named in warnings; colour is
 // read straight and written premultiplied by alpha, and alpha that is not finite or outside
 // 0..1 is counted and clamped. The oracles are OIIO reading the outputs back, the report and the
@@ -103,9 +104,10 @@ TEST(BadPixels, ToRgbNamesWhatItCannotWrite) {
   EXPECT_FALSE(fs::exists(s / "ir_rgb.exr"));
 }
 
-// Truth (README "Alpha"): colour is straight in PNGs; a white 8-bit pixel at alpha 64/255 is a
-// reflectance of 64/255 everywhere (a white surface covering a quarter of the pixel); the
-// plugin reports no alpha for sources without one; non-finite alpha is counted and clamped.
+// Truth (the guide's "Alpha" (docs/guide/images.md)): colour is straight in PNGs; a white 8-bit
+// pixel at alpha 64/255 is a reflectance of 64/255 everywhere (a white surface covering a quarter
+// of the pixel); the plugin reports no alpha for sources without one; non-finite alpha is counted
+// and clamped.
 TEST(Alpha, AlphaFollowsItsStatedRules) {
   Scratch s;
   std::vector<float> px;

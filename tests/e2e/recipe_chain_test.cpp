@@ -21,7 +21,7 @@ const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
 // Exported, so that it reaches every command of a line ("ulimit ...; spectralize ...").
 const std::string kPluginEnv =
     "export OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR " " SPECTRALIZE_TOOL_ENV ";";
-constexpr int kLimit = 16;  // the documented chain limit (README, docs/DESIGN.md §9)
+constexpr int kLimit = 16;  // the documented chain limit (docs/guide/files.md, docs/DESIGN.md §9)
 
 struct Scratch : e2e::Scratch {
   Scratch() : e2e::Scratch("spectralize_chain") {}

@@ -18,7 +18,7 @@ mv "$work/staged" "$work/prefix"
 prefix="$work/prefix"
 py_version="$(/usr/bin/python3 -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
 
-# The documented layout (README "Install").
+# The documented layout (the guide's "Install" (docs/guide/install.md)).
 for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
          share/spectralize/ocio/spectralize.ocio share/spectralize/data/cie1931_2deg_cmf_1nm.csv \
          share/spectralize/farm/spectralize-ingest.sbatch include/spectralize/version.h \

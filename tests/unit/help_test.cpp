@@ -50,6 +50,24 @@ TEST(Help, EachRenderingEscapesForItsFormat) {
   }
 }
 
+// Each command's page of the guide lists exactly the settings that apply to it, with defaults.
+TEST(Help, EachCommandsPageHoldsItsFlagsAndNoOthers) {
+  EXPECT_EQ(command_pages().size(), 7u);
+  for (const auto& [name, command] : command_pages()) {
+    const std::string page = help_markdown_for(command);
+    for (const SettingSpec& s : settings_schema()) {
+      const std::string flag = std::string(s.flag) + " ";
+      const bool listed = page.find(std::string("`").append(flag)) != std::string::npos ||
+                          page.find(std::string(", ").append(flag)) != std::string::npos;
+      bool applies = false;  // a flag may be two settings (--format: samples, or CSV/JSON)
+      for (const SettingSpec& other : settings_schema())
+        applies = applies || (other.flag == s.flag && other.applies(command));
+      EXPECT_EQ(listed, applies) << name << ": " << s.flag;
+    }
+  }
+  EXPECT_NE(help_markdown_for(kTable).find("| `--rgb-to-xyz MATRIX` |"), std::string::npos);
+}
+
 // The settings' defaults are those --help states.
 TEST(Help, SettingsCarryTheirDefaults) {
   const HelpDocument doc = help_document();

@@ -1,7 +1,8 @@
 // The job plan (pipeline/job_plan.h): settings checked against the output and the config before
 // any work, messages spelt as the caller spells options, the mode resolved once per subject, and
-// an input decided with the channel count the layout writes. Oracles: README "Conventions"
-// (light or surface) and docs/DESIGN.md §7 (the channels of a spectral OpenEXR).
+// an input decided with the channel count the layout writes. Oracles: the guide's "Conventions"
+// (docs/guide/conventions.md) (light or surface) and docs/DESIGN.md §7 (the channels of a spectral
+// OpenEXR).
 
 #include "pipeline/job_plan.h"
 
@@ -48,7 +49,8 @@ TEST(JobPlan, ColourJobsWithoutAnImageTakeTheirSubjectsDefaultMode) {
 
 TEST(JobPlan, ColoursInADataSpaceAreWarnedAboutInTheWordsAnImageIs) {
   // A space the config marks as data ("isdata: true": Raw) holds no colour: colours in it are
-  // taken as CIE XYZ with a warning, as an image in it is (README "--color"); not refused.
+  // taken as CIE XYZ with a warning, as an image in it is (the guide's "--color"
+  // (docs/guide/colours.md)); not refused.
   Settings raw;
   raw.colorspace = "Raw";
   const JobPlan colours = plan_colours(raw, ColourSubject::colours, kKeywords);

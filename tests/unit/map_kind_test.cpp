@@ -1,6 +1,6 @@
 // The name table (settings/map_kind.h) against a hand-written table of what a TD would say each
 // file holds: the conventions of Unreal, Unity, Substance, Megascans, USD, MaterialX and Arnold,
-// and names that only look like them (normandy_beach, armchair, eye_r, wood_light). The README's
+// and names that only look like them (normandy_beach, armchair, eye_r, wood_light). The guide's
 // table is checked against the code's, word for word.
 
 #include "settings/map_kind.h"
@@ -316,10 +316,10 @@ TEST(MapKind, TheReadmeTableIsTheCodesTable) {
   std::size_t n = 0;
   for (const NameWord& w : builtin_name_words()) {
     ++n;
-    ASSERT_TRUE(listed.count(w.word)) << "README lacks '" << w.word << "'";
+    ASSERT_TRUE(listed.count(w.word)) << "the guide lacks '" << w.word << "'";
     EXPECT_EQ(listed[w.word], std::string(kind_name(w.kind)) + "/" + place_name(w.place)) << w.word;
   }
-  EXPECT_EQ(listed.size(), n) << "README lists words the code does not have";
+  EXPECT_EQ(listed.size(), n) << "the guide lists words the code does not have";
 }
 
 }  // namespace

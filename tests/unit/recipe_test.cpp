@@ -1,6 +1,6 @@
 // Recipes (settings/recipe.h): what they accept and refuse, by the one settings schema, and the
 // chain of recipes a thread is opening (loops and depth). Oracle: the schema's documented
-// values and the messages the README quotes.
+// values and the messages the guide quotes.
 
 #include "settings/recipe.h"
 

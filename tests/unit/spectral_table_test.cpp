@@ -107,7 +107,7 @@ TEST(SpectralTable, EmissionIsTheTriangleBlendOfDirectlySolvedNodes) {
   }
 }
 
-// Truth (README): RGB (1, 1, 1) of a D65 space is the perfect reflector, rho == 1 everywhere,
+// Truth (the guide): RGB (1, 1, 1) of a D65 space is the perfect reflector, rho == 1 everywhere,
 // through the table too; the black pixel is the zero spectrum.
 TEST(SpectralTable, WhiteIsOneAndBlackIsZero) {
   const Spectralizer sp(settings(Mode::reflectance));

@@ -27,8 +27,9 @@ TEST(TableCache, RoundTripAndRefusals) {
   made.spectra(&c, 1, out.data(), &res);
   const std::string key = "test key";
   const std::string file = table_cache_file(dir.string(), key);
-  // Stable name: the published FNV-1a 64 of the key (README), whatever the standard library;
-  // f5f3c17326def1e6 is that hash of "test key" (basis 0xcbf29ce484222325, prime 0x100000001b3).
+  // Stable name: the published FNV-1a 64 of the key (docs/DESIGN.md §14), whatever the standard
+  // library; f5f3c17326def1e6 is that hash of "test key" (basis 0xcbf29ce484222325, prime
+  // 0x100000001b3).
   EXPECT_EQ(fs::path(file).filename(), "spectralize-table-f5f3c17326def1e6.bin");
   EXPECT_EQ(save_table_cache(made, file, key), "");
   SpectralTable loaded(sp);

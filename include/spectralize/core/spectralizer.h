@@ -29,7 +29,8 @@ std::string_view to_string(Mode mode);
 /// Parses "emission" | "reflectance"; throws Error. Cost: O(1).
 Mode parse_mode(std::string_view text);
 
-/// The smooth model's default curvature length tau (chosen by measurement; see README).
+/// The smooth model's default curvature length tau (chosen by measurement; see
+/// docs/guide/conventions.md).
 inline constexpr double kDefaultCurvatureNm = 50;
 
 /// Canonical emission basis: "flat" (any case) or an illuminant's canonical name; throws Error
@@ -81,7 +82,8 @@ inline constexpr double kLocusMargin = 1e-6;
 inline constexpr double kSolidMargin = 1e-4;
 inline constexpr double kSnapTolerance = 1e-6;
 
-/// The edge filter used when none is given (chosen by measurement; see README "Edge filter").
+/// The edge filter used when none is given (chosen by measurement; see the guide's "Edge filter"
+/// (docs/guide/conventions.md)).
 EdgeFilter default_edge_filter();
 
 struct SpectralizerSettings {
