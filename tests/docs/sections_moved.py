@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Nothing of the former long README is lost: every section listed in readme_sections.txt
 (heading, tab, file) is a heading of that file of the guide, at any level, and the introduction's text is
-in docs/index.md. Usage: sections_moved.py SOURCE_DIR"""
+in docs/index.md; the README's links into the repository (the guide's chapters) resolve.
+Usage: sections_moved.py SOURCE_DIR"""
 import os
+import re
 import sys
 
 
@@ -19,9 +21,14 @@ def main():
         if heading.lstrip("#").strip() not in titles and not (
                 path == "docs/index.md" and lines and lines[0].startswith("# spectralize")):
             missing.append(f"{heading} (in {path})")
+    readme = open(os.path.join(source, "README.md"), encoding="utf-8").read()
+    links = re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", readme)
+    for target in links:
+        if "://" not in target and not os.path.exists(os.path.join(source, target)):
+            missing.append(f"README link {target}")
     for m in missing:
         print("MISSING:", m)
-    print(f"{listed} sections listed, {len(missing)} missing")
+    print(f"{listed} sections listed, {len(links)} README links, {len(missing)} missing")
     return 1 if missing or listed < 20 else 0
 
 
