@@ -1078,12 +1078,12 @@ inline bool TableView::open(const void* data, std::size_t size, char* error,
       lanes_.last[a] = static_cast<std::int32_t>(lut_size_[a] - 1);
       lanes_.lut_at[a] = static_cast<std::int32_t>(lut_[a] - lut_[0]);
     }
-    const std::uint32_t step[3] = {1, n_[0], n_[0] * n_[1]};
+    const std::uint32_t* step = stride_;
     lanes_.far = step[0] + step[1] + step[2];
-    direct_ = squared_axes(lanes_.zero_node, lanes_.steps[0]);
+    float steps = 0;
+    direct_ = squared_axes(lanes_.zero_node, steps);
     for (int a = 0; a < 3; ++a) {
-      lanes_.steps[a] = lanes_.steps[0], lanes_.last_k[a] = lanes_.steps[0] - 1;
-      lanes_.steps2[a] = lanes_.steps[0] * lanes_.steps[0];
+      lanes_.steps[a] = steps, lanes_.last_k[a] = steps - 1, lanes_.steps2[a] = steps * steps;
       lanes_.stride[a] = static_cast<float>(step[a]);
     }
     for (std::uint32_t code = 0; code < 8; ++code) {

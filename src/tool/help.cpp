@@ -12,11 +12,21 @@ namespace {
 
 constexpr unsigned kPlots = kPlotColor | kPlotPixel;
 
-// The commands in --help's order, with the names the reference gives them.
-constexpr std::pair<unsigned, const char*> kCommandNames[] = {
-    {kImage, "image"},     {kToRgb, "--to-rgb"},         {kColor, "--color"},
-    {kPlotColor, "plots"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
-    {kTable, "table"}};
+// The commands in --help's order, with the names the reference gives them and the names of
+// their pages of the guide (--help-markdown-for).
+struct CommandName {
+  Command bit;
+  const char* name;
+  const char* page;
+};
+constexpr CommandName kCommandNames[] = {{kImage, "image", "image"},
+                                         {kToRgb, "--to-rgb", "to-rgb"},
+                                         {kColor, "--color", "color"},
+                                         {kPlotColor, "plots", "plot"},
+                                         {kPlotPixel, "--plot-pixel", "plot-pixel"},
+                                         {kIngest, "ingest", "ingest"},
+                                         {kTable, "table", "table"}};
+constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlots | kIngest | kTable;
 
 // The words of `text`, wrapped into lines that start at column `indent` and end by `width`
 // (the first line continues `line`, whatever its length).
@@ -127,9 +137,9 @@ std::string command_name(Command command) {
 
 std::string commands_list(unsigned commands) {
   std::string out;
-  for (const auto& [bit, name] : kCommandNames)
-    if ((commands & bit) && !(bit == kPlotColor && (commands & kColor)))
-      out += (out.empty() ? "" : ", ") + std::string(name);
+  for (const CommandName& c : kCommandNames)
+    if ((commands & c.bit) && !(c.bit == kPlotColor && (commands & kColor)))
+      out += (out.empty() ? "" : ", ") + std::string(c.name);
   return out;
 }
 
@@ -147,18 +157,18 @@ HelpDocument help_document() {
        "a render-time table of exact spectra (spectralize/rt.h)"},
   };
   HelpSection by_command{"Flags by command", {}};
-  for (const auto& [command, name] : kCommandNames) {
+  for (const CommandName& c : kCommandNames) {
     std::string flags;
     for (const CommandFlag& f : command_flags())
-      if (f.commands & command) flags += std::string(flags.empty() ? "" : " ") + f.flag;
+      if (f.commands & c.bit) flags += std::string(flags.empty() ? "" : " ") + f.flag;
     for (const SettingSpec& spec : settings_schema())
-      if (spec.applies(static_cast<Command>(command)) && flags.find(spec.flag) == std::string::npos)
+      if (spec.applies(c.bit) && flags.find(spec.flag) == std::string::npos)
         flags.append(" ").append(spec.flag);
-    by_command.entries.push_back({name, flags + " -v -q", "", ""});
+    by_command.entries.push_back({c.name, flags + " -v -q", "", ""});
   }
   HelpSection outputs{"Commands and outputs", {}};
   for (const CommandFlag& f : command_flags())
-    outputs.entries.push_back({std::string(f.flag) + " " + f.metavar, f.help, "", ""});
+    outputs.entries.push_back({std::string(f.flag) + " " + f.metavar, f.help, "", "", f.commands});
   HelpSection settings{"Settings [default] (commands they apply to)", {}};
   const Settings defaults;
   for (const SettingSpec& s : settings_schema()) {
@@ -166,12 +176,12 @@ HelpDocument help_document() {
     if (!s.alias.empty()) flag = std::string(s.alias) + ", " + flag;
     settings.entries.push_back(
         {flag, s.help, s.default_text.empty() ? s.format(defaults) : std::string(s.default_text),
-         commands_list(s.commands)});
+         commands_list(s.commands), s.commands});
   }
   HelpSection general{"General", {}};
   general.entries = {
-      {"-v", "Verbose: stages, colour-space choice, cache statistics", "", ""},
-      {"-q", "Quiet: no progress, summary or warnings", "", ""},
+      {"-v", "Verbose: stages, colour-space choice, cache statistics", "", "", kAllCommands},
+      {"-q", "Quiet: no progress, summary or warnings", "", "", kAllCommands},
       {"-h, --help", "Print this help and exit", "", ""},
       {"--version",
        "Print the version (and the OpenImageIO, OpenColorIO and OpenEXR it uses) and exit", "", ""},
@@ -258,7 +268,7 @@ std::string help_markdown() {
     out += "| `" + escaped_pipes(command) + "` | " + markdown(what) + " |\n";
   for (const HelpSection& section : doc.sections) {
     out += "\n## " + section.title.substr(0, section.title.find(" [")) + "\n\n";
-    if (section.entries.empty() || section.title == "Flags by command") {
+    if (section.title == "Flags by command") {
       out += "| Command | Flags |\n|---|---|\n";
       for (const HelpEntry& e : section.entries) out += "| `" + e.flag + "` | `" + e.text + "` |\n";
       continue;
@@ -275,29 +285,25 @@ std::string help_markdown() {
 }
 
 const std::vector<std::pair<std::string, Command>>& command_pages() {
-  static const std::vector<std::pair<std::string, Command>> pages = {
-      {"image", kImage},          {"to-rgb", kToRgb},  {"color", kColor}, {"plot", kPlotColor},
-      {"plot-pixel", kPlotPixel}, {"ingest", kIngest}, {"table", kTable}};
+  static const std::vector<std::pair<std::string, Command>> pages = [] {
+    std::vector<std::pair<std::string, Command>> out;
+    for (const CommandName& c : kCommandNames) out.emplace_back(c.page, c.bit);
+    return out;
+  }();
   return pages;
 }
 
 std::string help_markdown_for(Command command) {
+  // The reference's entries that serve this command, in its order: command flags, settings
+  // (with their defaults), then -v and -q.
   std::string out = "| Flag | What it does | Default |\n|---|---|---|\n";
-  auto row = [&out](const std::string& flag, std::string_view text, const std::string& value) {
-    out += "| `" + escaped_pipes(flag) + "` | " + markdown(text) + " | " +
-           (value.empty() ? std::string() : "`" + escaped_pipes(value) + "`") + " |\n";
-  };
-  for (const CommandFlag& f : command_flags())
-    if (f.commands & command) row(std::string(f.flag) + " " + f.metavar, f.help, "");
-  const Settings defaults;
-  for (const SettingSpec& s : settings_schema()) {
-    if (!s.applies(command)) continue;
-    std::string flag = std::string(s.flag) + " " + std::string(s.metavar);
-    if (!s.alias.empty()) flag = std::string(s.alias) + ", " + flag;
-    row(flag, s.help, s.default_text.empty() ? s.format(defaults) : std::string(s.default_text));
-  }
-  row("-v", "Verbose: stages, colour-space choice, cache statistics", "");
-  row("-q", "Quiet: no progress, summary or warnings", "");
+  for (const HelpSection& section : help_document().sections)
+    for (const HelpEntry& e : section.entries)
+      if (e.command_bits & command)
+        out +=
+            "| `" + escaped_pipes(e.flag) + "` | " + markdown(e.text) + " | " +
+            (e.default_value.empty() ? std::string() : "`" + escaped_pipes(e.default_value) + "`") +
+            " |\n";
   return out;
 }
 

@@ -32,6 +32,7 @@ struct HelpEntry {
   std::string flag, text;
   std::string default_value;  // settings: the default ("" for other flags)
   std::string commands;       // settings: the commands it applies to ("" for other flags)
+  unsigned command_bits = 0;  // the Command bits it serves (0: none in particular)
 };
 
 /// A titled list of entries.

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "../unit/rt_reproduction.h"
 #include "core/exact_table.h"
 #include "core/spectral_table.h"
 #include "core/table_file.h"
@@ -53,29 +54,6 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   }
   return 0;
 }
-
-namespace {
-
-// The relative error of a spectrum's colour (the table's band weights) against the colour's
-// target (the table's matrix), or 0 for black.
-double reproduction_error(const spz::TableView& view, const std::vector<float>& x,
-                          const float c[3]) {
-  const spz_file_header& h = view.header();
-  const auto* w = reinterpret_cast<const double*>(reinterpret_cast<const char*>(&h) +
-                                                  h.sections[SPZ_SECTION_BAND_WEIGHTS].offset);
-  double got[3] = {0, 0, 0}, want[3], scale = 0, err = 0;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    for (int a = 0; a < 3; ++a) got[a] += static_cast<double>(x[k]) * w[3 * k + a];
-  for (int a = 0; a < 3; ++a) {
-    const double* m = h.rgb_to_target + 3 * a;
-    want[a] = m[0] * c[0] + m[1] * c[1] + m[2] * c[2];
-    scale = std::max(scale, std::abs(want[a]));
-  }
-  for (int a = 0; a < 3; ++a) err = std::max(err, std::abs(got[a] - want[a]));
-  return scale > 0 ? err / scale : err;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::uint64_t> aligned(size / 8 + 1);
@@ -126,7 +104,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (!(w >= 0.0f)) __builtin_trap();
     for (float x : out)
       if (!(x >= 0) || !std::isfinite(x) || (view.reflectance() && x > 1)) __builtin_trap();
-    if (status == SPZ_EXACT && reproduction_error(view, out, c.data()) > 1e-5) __builtin_trap();
+    if (status == SPZ_EXACT && spz_test::relative_error(view, out, c.data()) > 1e-5)
+      __builtin_trap();
     (void)spz::eval(s, 550);
   }
   return 0;

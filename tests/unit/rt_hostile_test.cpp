@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "rt_reproduction.h"
 #include "test_support.h"
 
 namespace spectralize {
@@ -102,31 +103,11 @@ double seconds_to_load(const std::string& path) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The spectrum's samples (the C++ API), and its colour by the table's band weights in the
-// table's target space.
+// The spectrum's samples (the C++ API); their colour: spz_test::relative_error.
 std::vector<float> samples_of(const spz::Spectrum& s) {
   std::vector<float> out(spz::bands(s));
   spz::samples(s, out.data());
   return out;
-}
-
-// The largest difference between the colour of a spectrum's samples (the table's band weights)
-// and the target colour of `c` (the table's matrix), relative to the latter's largest
-// component (0 for black asked and given).
-double relative_error(const spz::TableView& v, const std::vector<float>& x, const float c[3]) {
-  const double* m = v.header().rgb_to_target;
-  const double* w =
-      reinterpret_cast<const double*>(reinterpret_cast<const char*>(&v.header()) +
-                                      v.header().sections[SPZ_SECTION_BAND_WEIGHTS].offset);
-  double got[3] = {0, 0, 0}, scale = 0, err = 0;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    for (int a = 0; a < 3; ++a) got[a] += x[k] * w[3 * k + a];
-  for (int a = 0; a < 3; ++a) {
-    const double want = m[3 * a] * c[0] + m[3 * a + 1] * c[1] + m[3 * a + 2] * c[2];
-    scale = std::max(scale, std::abs(want));
-    err = std::max(err, std::abs(got[a] - want));
-  }
-  return scale > 0 ? err / scale : err;
 }
 
 // --- Load cost and meaning ---
@@ -168,7 +149,7 @@ TEST(RtHostile, NodesLoadOnlyWhenTheirBlendsKeepTheExactPromise) {
       spz::Spectrum sp{};
       if (v.fetch(col, sp) != SPZ_EXACT) continue;
       ++exact;
-      off += relative_error(v, samples_of(sp), col) > 1e-5;
+      off += spz_test::relative_error(v, samples_of(sp), col) > 1e-5;
     }
     EXPECT_GT(exact, 10000);
     EXPECT_EQ(off, 0) << "of " << exact;
@@ -500,7 +481,7 @@ TEST(RtHostile, DarkColoursAreExactOnlyRelativeToThemselves) {
         spz::Spectrum s{};
         if (v.fetch(c, s) != SPZ_EXACT) continue;
         ++exact;
-        if (relative_error(v, samples_of(s), c) > 1e-5) ++off;
+        if (spz_test::relative_error(v, samples_of(s), c) > 1e-5) ++off;
       }
     }
     EXPECT_GT(exact, 2000);
@@ -599,7 +580,7 @@ TEST(RtHostile, ColoursAtAndBesideEveryNodeHaveConvexWeightsAndAreExact) {
           if (status != SPZ_EXACT) continue;
           ++exact;
           spz::samples(s, x.data());
-          off += relative_error(v, x, c) > 1e-5;
+          off += spz_test::relative_error(v, x, c) > 1e-5;
         }
     std::printf("  %s: %zu^3 colours at and beside the nodes, %llu exact\n", name, at.size(),
                 static_cast<unsigned long long>(exact));
