@@ -10,10 +10,13 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 
+#include "colour/file_rule_screen.h"
 #include "colour/ocio_compat.h"
+#include "core/work_counts.h"
 #include "imagefile/safe_output.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
@@ -31,6 +34,7 @@ extern const std::string_view kOcioConfig;
 struct ColourFactsCache {
   std::mutex mutex;
   std::map<std::string, std::unique_ptr<const ColourSpaceFacts>, std::less<>> by_name;
+  std::optional<FileRuleScreen> file_rules;  // set once, when the config is parsed
 };
 
 namespace {
@@ -97,6 +101,23 @@ struct Parsed {
   std::shared_ptr<ColourFactsCache> facts;
 };
 
+// The config's file rules as the screen reads them.
+std::vector<FileRuleText> file_rule_texts(const OCIO::Config& config) {
+  const OCIO::ConstFileRulesRcPtr rules = config.getFileRules();
+  std::vector<FileRuleText> out;
+  for (std::size_t i = 0; i < rules->getNumEntries(); ++i) {
+    FileRuleText r;
+    if (i + 1 == rules->getNumEntries())
+      r.kind = FileRuleText::Kind::fallback;  // OCIO keeps the default rule last
+    else if (const char* pattern = rules->getPattern(i); pattern && *pattern)
+      r.pattern = pattern, r.extension = rules->getExtension(i);
+    else
+      r.kind = FileRuleText::Kind::other;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 Parsed parsed_config(const std::string& path) {
   static std::mutex mutex;
   static std::map<std::string, Parsed> parsed;
@@ -116,6 +137,7 @@ Parsed parsed_config(const std::string& path) {
     if (auto it = parsed.find(key); it != parsed.end()) return it->second;
   }
   Parsed p;
+  count_work(Work::config_parsed);
   if (path.empty()) {
     std::istringstream text{std::string(embedded::kOcioConfig)};
     p.config = OCIO::Config::CreateFromStream(text);
@@ -126,6 +148,7 @@ Parsed parsed_config(const std::string& path) {
   }
   p.config->validate();
   p.facts = std::make_shared<ColourFactsCache>();
+  p.facts->file_rules.emplace(file_rule_texts(*p.config));
   std::lock_guard<std::mutex> lock(mutex);
   if (parsed.size() >= 16) parsed.clear();  // a bound, for processes that see many configs
   return parsed.emplace(std::move(key), std::move(p)).first->second;
@@ -461,10 +484,14 @@ std::string ColourSpaces::role_or_name(std::initializer_list<std::string_view> r
 }
 
 std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& path) const {
+  // OCIO compiles each rule's expression on every match: paths no rule but the default can
+  // match are told by the screen; OCIO decides the others, once each.
+  if (!facts_->file_rules->may_match(path)) return {"", ""};
   const ConfigPtr& config = config_of(config_);
-  if (config->filepathOnlyMatchesDefaultRule(path.c_str())) return {"", ""};
+  count_work(Work::file_rule_match);
   size_t index = 0;
   const char* space = config->getColorSpaceFromFilepath(path.c_str(), index);
+  if (index + 1 >= config->getFileRules()->getNumEntries()) return {"", ""};
   if (!space || !*space) return {"", ""};
   auto cs = config->getColorSpace(space);
   return {cs ? cs->getName() : space, config->getFileRules()->getName(index)};

@@ -145,6 +145,24 @@ std::pair<std::vector<double>, std::vector<double>> embedded_column(std::string_
   return {std::move(x), std::move(y)};
 }
 
+EmbeddedTable embedded_table(std::string_view file) {
+  const auto lines = lines_of(file_text(file));
+  const auto header = split(lines.at(0), ',');
+  EmbeddedTable t;
+  for (std::size_t c = 1; c < header.size(); ++c) t.names.emplace_back(header[c]);
+  t.columns.resize(t.names.size());
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto cells = split(lines[i], ',');
+    if (cells.size() != header.size())
+      throw Error("embedded data: " + std::string(file) + " row " + std::to_string(i) +
+                  " has the wrong number of cells");
+    t.wavelengths.push_back(parse_double(cells[0]));
+    for (std::size_t c = 1; c < cells.size(); ++c)
+      t.columns[c - 1].push_back(cells[c].empty() ? 0.0 : parse_double(cells[c]));
+  }
+  return t;
+}
+
 std::vector<double> embedded_column_on_reference(std::string_view file, std::string_view column) {
   auto [x, y] = embedded_column(file, column);
   return on_reference(x, y);

@@ -29,8 +29,9 @@ std::vector<std::vector<double>> development_reflectances(std::span<const double
   std::vector<std::vector<double>> out;
   for (const std::string& file : development_set_files()) {
     if (!sets.empty() && std::find(sets.begin(), sets.end(), file) == sets.end()) continue;
-    for (const std::string& name : embedded_columns(file)) {
-      const auto [nm, values] = embedded_column(file, name);
+    const EmbeddedTable table = embedded_table(file);  // one parse for all its columns
+    const std::vector<double>& nm = table.wavelengths;
+    for (const std::vector<double>& values : table.columns) {
       std::vector<double> rho(wavelengths.size());
       for (std::size_t i = 0; i < wavelengths.size(); ++i) {
         const double l = wavelengths[i];

@@ -40,6 +40,8 @@ constexpr double kDualDamping = 1e-20;
 constexpr double kSafetyDamping = 1e-12;
 // The projection's cap: it is a finite-termination method (active sets), typically 1..10.
 constexpr int kProjectionIterations = 200;
+static_assert(NaturalSolver::kMaxIterations == kNewtonIterations + 3 * kProjectionIterations,
+              "the stated cap is the loops' caps");
 // Exactness aimed at by the projections (max|W x - t| / max|t|), and the one accepted when
 // they stall short of it (the model's contract: 1e-12).
 constexpr double kExact = 1e-13;

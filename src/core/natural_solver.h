@@ -44,6 +44,9 @@ class NaturalSolver {
   /// AMPAS 190) lie at depth <= 0.94; up to 1 - 1e-3 Newton converged on every colour tested
   /// (docs/DESIGN.md §6). A robustness margin, not a fitted parameter.
   static constexpr double kNaturalDepth = 0.999;
+  /// The most iterations solve() takes (NaturalSpectrum::iterations), whatever the target: 80
+  /// Newton steps, 200 of the link projection and twice 200 of the bounded projection.
+  static constexpr int kMaxIterations = 680;
 
   /// Prepares the facets of the reflectance solid and of the spectral locus for N samples with
   /// weight vectors `columns` on a grid of step `step_nm`. Cost: O(N^3) once (~1 ms at 5 nm).

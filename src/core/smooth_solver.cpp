@@ -20,6 +20,9 @@ constexpr double kRidge = 1e-10;
 // Primal-dual phase: iterations before the primal fallback takes over (it converges in a few
 // for nearly all colours; cycling is possible because H is not an M-matrix).
 constexpr int kPrimalDualIterations = 40;
+static_assert(SmoothSolver::max_iterations(0) ==
+                  kPrimalDualIterations + ProjectionControl{}.max_iterations + 50,
+              "the stated cap is the loops' caps");
 
 // Scratch of one reduced solve, reused across iterations.
 struct Workspace {
@@ -285,6 +288,7 @@ SmoothSpectrum SmoothSolver::solve(const Xyz& target, double upper,
       std::vector<double> guess(n);
       for (int i = 0; i < n; ++i) guess[i] = std::clamp(x[i], 0.0, upper);
       Projection p = project_exact(columns_, guess, target, upper);
+      out.iterations += p.iterations;
       if (!p.converged) {  // infeasible target: the bounded best effort
         for (double& v : x) v = std::clamp(v, 0.0, upper);
         return out;

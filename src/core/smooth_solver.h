@@ -31,7 +31,7 @@ struct Roughness {
 struct SmoothSpectrum {
   std::vector<double> values;
   bool converged = false;  // KKT conditions met (else: exact and bounded, but not optimal)
-  int iterations = 0;      // active-set iterations, both phases
+  int iterations = 0;      // active-set iterations, both phases, and the projection's
   bool fallback = false;   // the primal-dual phase cycled; the primal phase finished
 };
 
@@ -48,6 +48,9 @@ class SmoothSolver {
   /// iteration, typically 3..10 iterations (~10 us at 5 nm).
   SmoothSpectrum solve(const Xyz& target, double upper = std::numeric_limits<double>::infinity(),
                        std::span<const double> feasible = {}) const;
+  /// The most iterations solve() takes for N samples (SmoothSpectrum::iterations), whatever the
+  /// target: 40 primal-dual, 500 of the projection to a feasible start, 4 N + 50 primal.
+  static constexpr int max_iterations(int samples) { return 40 + 500 + 4 * samples + 50; }
 
   /// x^T H x of a spectrum (without the tiny ridge): the roughness minimised. Cost: O(N).
   double roughness(std::span<const double> x) const;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/work_counts.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -117,6 +118,7 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
       gamut_(settings_.mode == Mode::emission ? locus_
                                               : ConvexGamut::reflectance_solid(weights_.columns())),
       white_balance_{1, 1, 1} {
+  count_work(Work::spectralizer_built);
   const std::vector<double> wavelengths = wavelengths_of(settings_.grid);
   ModelContext context{basis_columns_, wavelengths, settings_.grid.step(), settings_.filter,
                        settings_.curvature_nm};

@@ -30,4 +30,11 @@ ExrHeaderValues exr_header_values(const std::string& path);
 std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> exr_attribute_extents(
     const std::string& path);
 
+/// Why the file at `path` is not a whole single-part scanline OpenEXR of `width` x `height`
+/// pixels and `channels` channels, or "" when it is: its header complete, its data window and
+/// channel list that size, one line offset per block of its compression, each pointing at a
+/// chunk of that block inside the file, the chunks ending at the file's last byte. What a writer
+/// checks before renaming what it wrote. Cost: one header read and an 8-byte read per block.
+std::string exr_scanline_problem(const std::string& path, int width, int height, int channels);
+
 }  // namespace spectralize

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <thread>
 
+#include "core/work_counts.h"
 #include "imagefile/exr_header.h"
 #include "imagefile/exr_scanline_reader.h"
 #include "imagefile/safe_output.h"
@@ -40,6 +41,7 @@ ImageReader::ImageReader(const std::string& path, int output_channels, bool stra
   // before the transfer function is undone (docs/DESIGN.md §9, "Alpha").
   if (straight_alpha) config.attribute("oiio:UnassociatedAlpha", 1);
   const std::string where = quoted_path(path) + ": ";
+  count_work(Work::input_opened);
   in_ = OIIO::ImageInput::open(path, &config);
   if (!in_) {
     const std::string why = OIIO::geterror();

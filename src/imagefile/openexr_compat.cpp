@@ -15,6 +15,7 @@ const std::vector<ExrCompression>& exr_compressions() {
       const auto id = static_cast<Imf::Compression>(i);
       if (!Imf::isValidCompression(i)) continue;
       ExrCompression c;
+      c.id = i;
       Imf::getCompressionNameFromId(id, c.name);
       c.block_rows = Imf::getCompressionNumScanlines(id);
       c.lossy = Imf::isLossyCompression(id);
@@ -22,9 +23,10 @@ const std::vector<ExrCompression>& exr_compressions() {
     }
 #else
     // OpenEXR 3.1's, in its enum's order (ImfCompression.h).
-    out = {{"none", 1, false}, {"rle", 1, false},   {"zips", 1, false}, {"zip", 16, false},
-           {"piz", 32, false}, {"pxr24", 16, true}, {"b44", 32, true},  {"b44a", 32, true},
-           {"dwaa", 32, true}, {"dwab", 256, true}};
+    out = {{0, "none", 1, false}, {1, "rle", 1, false},  {2, "zips", 1, false},
+           {3, "zip", 16, false}, {4, "piz", 32, false}, {5, "pxr24", 16, true},
+           {6, "b44", 32, true},  {7, "b44a", 32, true}, {8, "dwaa", 32, true},
+           {9, "dwab", 256, true}};
 #endif
     return out;
   }();

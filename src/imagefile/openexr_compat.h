@@ -10,6 +10,7 @@ namespace spectralize {
 /// A compression this OpenEXR writes: its name as OpenEXR and OIIO spell it ("zip",
 /// "htj2k256"), the scanlines of one block, and whether it loses information.
 struct ExrCompression {
+  int id = 0;  // the byte a header's "compression" attribute holds
   std::string name;
   int block_rows = 1;
   bool lossy = false;

@@ -15,6 +15,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -260,7 +261,8 @@ class FileIngest {
   // settings as resolved for this file, which decide whether its output is up to date as they
   // decide what the conversion writes into the header. The conversion takes this decision.
   std::string decide(JobPlan& plan) {
-    const ImageReader reader(item_.input, spectral_output_channels(plan.settings), true);
+    const ImageReader& reader =
+        reader_.emplace(item_.input, spectral_output_channels(plan.settings), true);
     const InputInterpretation in =
         interpret_colour(item_.input, reader.spec(), plan.settings, plan.colour_spaces());
     if (!in.data_reason.empty()) {
@@ -274,6 +276,7 @@ class FileIngest {
   Json convert(const JobPlan& plan, const std::string& prefix, const std::string& asked) {
     ImageJobOptions options;
     options.shared.pool = &batch_.pool;
+    options.reader = &*reader_;  // opened by decide(): each input is opened once
     options.shared.share = &batch_.share;
     options.output = WriteRules::named("the output of " + quoted_path(item_.input))
                          .below(destination())
@@ -299,6 +302,7 @@ class FileIngest {
   const IngestItem& item_;
   Batch& batch_;
   const Clock::time_point start_ = Clock::now();
+  std::optional<ImageReader> reader_;  // the input, opened to decide it and read to convert it
   Json r_;
   struct stat st_ = {};
 };
@@ -310,6 +314,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   install_cleanup_handlers();
   const ReadFileScope reads;  // the run's registry: what it reads, what it writes
   const auto t0 = Clock::now();
+  const WorkCounts work_before = work_counts();
   const Settings& base = plan.request.settings;
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int total_threads = base.threads > 0 ? base.threads : cores;
@@ -377,6 +382,7 @@ IngestSummary run_ingest(const IngestPlan& plan, const IngestProgressFn& progres
   }
   sum.stale_temporaries_removed = batch.stale;
   sum.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  sum.work = work_counts().since(work_before);
   sum.manifest = plan.manifest;
   sum.interrupted = batch.stopping();
   std::string text;

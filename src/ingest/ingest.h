@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/work_counts.h"
 #include "imagefile/safe_output.h"
 #include "pipeline/job_log.h"
 #include "pipeline/job_plan.h"
@@ -87,6 +88,9 @@ struct IngestSummary {
   std::uint64_t left_out = 0, not_entered = 0;  // left out of the walk; of them, failures
   std::map<std::string, std::uint64_t> left_out_by_reason;  // "not an image": 3, ...
   double seconds = 0;
+  // What converting the files took beyond their pixels (the planning before is not counted): a
+  // config parsed, spectralizers built, OCIO file-rule matches, inputs opened (each once).
+  WorkCounts work;
   std::string manifest;
   /// True when nothing failed: no file, and the walk entered everything. Cost: O(1).
   bool ok() const { return failed == 0 && not_entered == 0; }

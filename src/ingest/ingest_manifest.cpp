@@ -42,6 +42,10 @@ Json counts_json(const IngestSummary& s) {
   j["left_out_by_reason"] = Json::object();
   for (const auto& [kind, n] : s.left_out_by_reason) j["left_out_by_reason"][kind] = n;
   j["seconds"] = s.seconds;
+  j["work"] = {{"configs_parsed", s.work.configs_parsed},
+               {"spectralizers_built", s.work.spectralizers_built},
+               {"file_rule_matches", s.work.file_rule_matches},
+               {"inputs_opened", s.work.inputs_opened}};
   if (s.interrupted) {
     j["interrupted"] = true;
     j["not_done"] = s.not_done;
@@ -209,6 +213,11 @@ IngestSummary merge_ingest_manifests(const std::string& destination) {
     }
     sum.seconds = std::max(sum.seconds, p.summary.value("seconds", 0.0));
     sum.stale_temporaries_removed += p.summary.value("stale_temporaries_removed", 0);
+    const Json work = p.summary.value("work", Json::object());
+    sum.work.configs_parsed += work.value("configs_parsed", std::uint64_t{0});
+    sum.work.spectralizers_built += work.value("spectralizers_built", std::uint64_t{0});
+    sum.work.file_rule_matches += work.value("file_rule_matches", std::uint64_t{0});
+    sum.work.inputs_opened += work.value("inputs_opened", std::uint64_t{0});
   }
   if (!batch_files.is_number_unsigned() || sum.files() != batch_files.get<std::uint64_t>())
     throw FileError(where + ": the parts hold " + std::to_string(sum.files()) +

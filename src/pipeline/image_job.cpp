@@ -9,6 +9,7 @@
 #include <future>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -101,6 +102,28 @@ class Sink {
       }
     });
     file_.check();
+  }
+
+  /// Why the finished file is not what was meant ("" when it is: its header and chunk table
+  /// are written last). Cost: OpenEXR's written by OpenEXR: reading its header and an 8-byte
+  /// chunk head per block; other formats: the reader's open.
+  std::string problem() const {
+    const OIIO::ImageSpec& s = ospec_;
+    if (exr_) {
+      const std::string why = exr_scanline_problem(file_.path(), s.width, s.height, s.nchannels);
+      return why.empty() ? "" : "the written file does not read back: " + why;
+    }
+    auto back = OIIO::ImageInput::create(writer_->format_name());
+    OIIO::ImageSpec got;
+    if (!back || !back->open(file_.path(), got))
+      return "the written file does not read back: " + (back ? back->geterror() : OIIO::geterror());
+    back->close();
+    if (got.width != s.width || got.height != s.height || got.nchannels != s.nchannels)
+      return "the written file reads back as " + std::to_string(got.width) + "x" +
+             std::to_string(got.height) + ", " + std::to_string(got.nchannels) +
+             " channels, not the " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+             ", " + std::to_string(s.nchannels) + " channels written";
+    return "";
   }
 
   /// Completes the file. Cost: the writer's close.
@@ -209,7 +232,8 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
     // --threads 1 the write runs here, so the job never keeps more than one core busy.
     if (writing.valid()) writing.get();
     t_write += seconds_since(t1);
-    if ((share ? share->now() : threads) == 1)
+    // The last strip too: nothing follows for its write to overlap (a tiny file's only strip).
+    if (y1 == spec.height || (share ? share->now() : threads) == 1)
       sink.write(y0, y1, out);
     else
       writing = std::async(std::launch::async, [&sink, y0, y1, out] { sink.write(y0, y1, out); });
@@ -218,21 +242,9 @@ std::pair<double, double> stream(ImageReader& in, AtomicOutput& file, const std:
   auto t_close = Clock::now();
   if (writing.valid()) writing.get();
   sink.close();
-  // The finished file must open as what was meant (its header and chunk table are written last).
+  // The finished file must be what was meant (its header and chunk table are written last).
   file.check();
-  auto back = OIIO::ImageInput::create(format);
-  OIIO::ImageSpec back_spec;
-  if (!back || !back->open(file.path(), back_spec))
-    throw Error("'" + output + "': the written file does not read back: " +
-                (back ? back->geterror() : OIIO::geterror()));
-  if (back_spec.width != ospec.width || back_spec.height != ospec.height ||
-      back_spec.nchannels != ospec.nchannels)
-    throw Error("'" + output + "': the written file reads back as " +
-                std::to_string(back_spec.width) + "x" + std::to_string(back_spec.height) + ", " +
-                std::to_string(back_spec.nchannels) + " channels, not the " +
-                std::to_string(ospec.width) + "x" + std::to_string(ospec.height) + ", " +
-                std::to_string(ospec.nchannels) + " channels written");
-  back->close();
+  if (const std::string why = sink.problem(); !why.empty()) throw Error("'" + output + "': " + why);
   t_write += seconds_since(t_close);
   return {t_convert, t_write};
 }
@@ -246,7 +258,10 @@ ImageReport run_image_job(const JobPlan& plan, const std::string& input, const s
   const ReadFileScope reads;  // no output of the job replaces a file it reads
   const auto t_start = Clock::now();
   const Settings& settings = plan.settings;
-  ImageReader reader(input, spectral_output_channels(settings), /*straight_alpha=*/true);
+  std::optional<ImageReader> opened;
+  ImageReader& reader = options.reader ? *options.reader
+                                       : opened.emplace(input, spectral_output_channels(settings),
+                                                        /*straight_alpha=*/true);
   // The destination is checked (and its temporary file created) before any work.
   AtomicOutput file(output, options.output, std::span<const std::string>(&input, 1));
   if (!options.shared.pool) limit_threads(settings.threads);  // a batch sets its threads once

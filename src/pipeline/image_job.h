@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "imagefile/image_reader.h"
 #include "imagefile/safe_output.h"
 #include "pipeline/image_conversion.h"
 #include "pipeline/image_report.h"
@@ -25,6 +26,9 @@ struct ImageJobOptions {
   ConversionContext shared;  // a batch's tables, config and decision; more header attributes
   WriteRules output = WriteRules::named("the output");    // how `output` may be written
   std::function<void(const ImageReport&)> before_commit;  // a throw there leaves nothing
+  // The input already open (a batch's decision read its header), read from here instead of
+  // opening it again; opened as run_image_job would (spectral_output_channels, straight alpha).
+  ImageReader* reader = nullptr;
 };
 
 /// Converts `input` to the spectral OpenEXR `output`, as `plan` (plan_to_spectral) says, or as

@@ -1,6 +1,7 @@
 #include "pipeline/table_pool.h"
 
 #include <filesystem>
+#include <future>
 
 #include <fmt/format.h>
 
@@ -18,10 +19,35 @@ TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const Log
                      (s.method == SpectralTable::Method::exact ? "exact" : "table") + "; cache " +
                      s.cache_dir + "; frame";
   for (double v : frame) seen += fmt::format(" {}", v);  // shortest round-trip form
+  // The first file of a kind builds its entry; files of the same kind arriving meanwhile (a
+  // batch's jobs start together) wait for it instead of building another spectralizer.
+  std::promise<Entry*> building;
+  std::shared_future<Entry*> built_by_another;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (auto it = seen_.find(seen); it != seen_.end()) return *it->second;
+    if (auto it = building_.find(seen); it != building_.end())
+      built_by_another = it->second;
+    else
+      building_.emplace(seen, building.get_future().share());
   }
+  if (built_by_another.valid()) return *built_by_another.get();  // its failure is thrown here too
+  try {
+    Entry& entry = build(s, frame, log, cache_option, seen);
+    building.set_value(&entry);
+    return entry;
+  } catch (...) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      building_.erase(seen);  // a later file tries again
+    }
+    building.set_exception(std::current_exception());
+    throw;
+  }
+}
+
+TablePool::Entry& TablePool::build(const Settings& s, const Mat3& frame, const LogFn& log,
+                                   const std::string& cache_option, const std::string& seen) {
   // The key names everything the node spectra depend on (and the method: exact tables differ).
   auto spectralizer = std::make_unique<Spectralizer>(s.spectral);
   auto table = std::make_unique<SpectralTable>(*spectralizer, s.method, frame);
@@ -32,6 +58,7 @@ TablePool::Entry& TablePool::get(const Settings& s, const Mat3& frame, const Log
   const std::string entry_key =
       key + (s.method == SpectralTable::Method::table ? "; cache " + s.cache_dir : "");
   std::lock_guard<std::mutex> lock(mutex_);
+  building_.erase(seen);  // from now on seen_ has it
   auto it = entries_.find(entry_key);
   if (it != entries_.end()) {
     seen_[seen] = it->second.get();

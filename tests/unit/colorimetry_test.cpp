@@ -353,12 +353,19 @@ TEST(EmbeddedData, EveryCsvOfDataIsEmbeddedAsStored) {
     ASSERT_EQ(csv.header.at(0), "wavelength_nm");
     const std::vector<std::string> columns = embedded_columns(file);
     ASSERT_EQ(columns, std::vector<std::string>(csv.header.begin() + 1, csv.header.end()));
+    // Column by column, and the whole table in one parse.
+    const EmbeddedTable table = embedded_table(file);
+    ASSERT_EQ(table.names, columns);
+    ASSERT_EQ(table.wavelengths.size(), csv.rows.size());
     for (std::size_t c = 0; c < columns.size(); ++c) {
       const auto [nm, values] = embedded_column(file, columns[c]);
       ASSERT_EQ(nm.size(), csv.rows.size());
+      ASSERT_EQ(table.columns.at(c).size(), csv.rows.size());
       for (std::size_t r = 0; r < csv.rows.size(); ++r) {
         ASSERT_EQ(nm[r], csv.rows[r][0]);
         ASSERT_EQ(values[r], csv.rows[r][1 + c]) << columns[c] << " row " << r;
+        ASSERT_EQ(table.wavelengths[r], csv.rows[r][0]);
+        ASSERT_EQ(table.columns[c][r], csv.rows[r][1 + c]) << columns[c] << " row " << r;
       }
     }
   }
@@ -394,6 +401,8 @@ TEST(EmbeddedData, MissingFilesAndColumnsAreErrorsNamingThem) {
                           "missing file");
   expect_error_mentioning([] { (void)embedded_columns("nope.csv"); }, {"nope.csv"},
                           "missing file (columns)");
+  expect_error_mentioning([] { (void)embedded_table("nope.csv"); }, {"nope.csv"},
+                          "missing file (table)");
   expect_error_mentioning(
       [] { (void)embedded_column_on_reference("cie_illuminant_a_1nm.csv", "vlaue"); },
       {"cie_illuminant_a_1nm.csv", "vlaue"}, "missing column");

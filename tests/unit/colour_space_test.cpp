@@ -4,9 +4,11 @@
 
 #include "colour/colour_space.h"
 
+#include <OpenColorIO/OpenColorIO.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 
@@ -86,6 +88,94 @@ TEST(ColourSpace, AnEditedConfigIsReadAgain) {
   write("lin_one", "extra_aa");  // back to the first bytes: the first config again
   const auto third = ColourSpaces::load(path).names();
   EXPECT_NE(std::find(third.begin(), third.end(), "extra_aa"), third.end());
+}
+
+// The file rules decide as OCIO decides, for every kind of rule and path: OCIO's own answer
+// (asked directly here, each time) is the oracle of ColourSpaces::file_rule, whose screen keeps
+// most paths from OCIO's per-call expression compiles (colour/file_rule_screen.h).
+TEST(ColourSpace, FileRulesDecideAsOcioDoesForEveryPath) {
+  namespace OCIO = OCIO_NAMESPACE;
+  const test::TempDir t("file_rules");
+  const std::vector<std::vector<std::array<const char*, 4>>> rule_sets = {
+      // name, colour space, pattern, extension (a pattern "~" means: this is a regex rule)
+      {{"srgb", "sRGB - Texture", "*_[sS][rR][gG][bB]*", "*"},
+       {"linear", "Linear Rec.709 (sRGB)", "*_[lL][iI][nN][eE][aA][rR]*", "*"},
+       {"radiance", "Linear Rec.709 (sRGB)", "*", "[hH][dD][rR]"}},
+      {{"tex", "sRGB - Texture", "*/textures/*", "png"},
+       {"acescg", "ACEScg", "*_acescg_?*", "EXR"},
+       {"digits", "Raw", "map\\d[0-9][!a]x", "tif"},
+       {"dotted", "ACEScg", "plates/v1.0/*", "*"}},
+      {{"plain", "sRGB - Texture", "*", "jpg"}, {"re", "ACEScg", "~", ".*_cg\\.[eE][xX][rR]$"}},
+      {},  // the default rule only
+  };
+  const std::vector<std::string> paths = {"wall_srgb.png",
+                                          "wall_SRGB.tif",
+                                          "wall.png",
+                                          "brick",
+                                          "sky.hdr",
+                                          "sky.HDR",
+                                          "a/b/sky.hdr",
+                                          "lib/textures/brick.png",
+                                          "lib/textures/brick.PNG",
+                                          "lib/texture/brick.png",
+                                          "shot_acescg_v2.exr",
+                                          "shot_acescg_.exr",
+                                          "SHOT_ACESCG_V2.EXR",
+                                          "shot_acescg_v2.EXR",
+                                          "map7 1yx.tif",
+                                          "mapQ-Zx.tif",
+                                          "map71yy.tif",
+                                          "map71Ax.tif",
+                                          "map71ax.tif",
+                                          "plates/v1.0/a.dpx",
+                                          "plates/v1x0/a.dpx",
+                                          "photo.jpg",
+                                          "photo.JPG",
+                                          "photo.jpeg",
+                                          "render_cg.exr",
+                                          "render_cg.EXR",
+                                          "render_cgexr",
+                                          "x_linear_y.exr",
+                                          "dir_srgb/plain.exr",
+                                          ".hidden",
+                                          "trailing.",
+                                          "/abs/wall_srgb.png"};
+  int asked_ocio = 0;
+  for (std::size_t set = 0; set < rule_sets.size(); ++set) {
+    const OCIO::ConfigRcPtr config =
+        OCIO::Config::CreateFromFile(SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio")
+            ->createEditableCopy();
+    const OCIO::FileRulesRcPtr rules = OCIO::FileRules::Create();
+    std::size_t at = 0;
+    for (const auto& [name, space, pattern, extension] : rule_sets[set]) {
+      if (std::string(pattern) == "~")
+        rules->insertRule(at++, name, space, extension);
+      else
+        rules->insertRule(at++, name, space, pattern, extension);
+    }
+    rules->setColorSpace(rules->getNumEntries() - 1, "default");
+    config->setFileRules(rules);
+    const std::string file = t / ("rules" + std::to_string(set) + ".ocio");
+    std::ofstream(file) << *config;
+    const OCIO::ConstConfigRcPtr oracle = OCIO::Config::CreateFromFile(file.c_str());
+    const ColourSpaces spaces = ColourSpaces::load(file);
+    for (const std::string& path : paths) {
+      SCOPED_TRACE("rule set " + std::to_string(set) + ", '" + path + "'");
+      std::size_t index = 0;
+      const std::string space = oracle->getColorSpaceFromFilepath(path.c_str(), index);
+      const bool by_default = index + 1 == oracle->getFileRules()->getNumEntries();
+      const auto [got_space, got_rule] = spaces.file_rule(path);
+      if (by_default) {
+        EXPECT_EQ(got_space, "");
+        EXPECT_EQ(got_rule, "");
+      } else {
+        ++asked_ocio;
+        EXPECT_EQ(got_space, oracle->getColorSpace(space.c_str())->getName());
+        EXPECT_EQ(got_rule, oracle->getFileRules()->getName(index));
+      }
+    }
+  }
+  EXPECT_GE(asked_ocio, 15);  // the paths exercise the rules, not only the default
 }
 
 }  // namespace

@@ -1,15 +1,16 @@
-// The OpenEXR header reader (imagefile/exr_header.h): the string and double attributes of files
-// written here by OpenEXR and by OpenImageIO read back exactly (every string, every double bit
-// for bit, nothing of other types), also from headers far beyond the first read and from files
-// whose pixels are cut short; the extents of the values are where the file's bytes hold them; a
-// missing, truncated, multi-part, foreign, oversized or malformed file, a folder and a FIFO give
-// nothing at all (never part of a header, never a block). Oracles: the values written, the
-// file's own bytes, and the OpenEXR file layout (magic, version, name\0 type\0 size value, \0)
-// written out by hand.
+// The OpenEXR header reader and the scanline structure check (imagefile/exr_header.h): the string
+// and double attributes of files written here by OpenEXR and by OpenImageIO read back exactly
+// (every string, every double bit for bit, nothing of other types), also from headers far beyond
+// the first read and from files whose pixels are cut short; the extents of the values are where the
+// file's bytes hold them; a missing, truncated, multi-part, foreign, oversized or malformed file, a
+// folder and a FIFO give nothing at all (never part of a header, never a block). Oracles: the
+// values written, the file's own bytes, and the OpenEXR file layout (magic, version, name\0 type\0
+// size value, \0) written out by hand.
 
 #include "imagefile/exr_header.h"
 
 #include <ImfChannelList.h>
+#include <ImfCompressionAttribute.h>
 #include <ImfDoubleAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -304,6 +305,71 @@ TEST(ExrHeader, ExtentsAreWhereTheFilesBytesHoldEachValue) {
   EXPECT_EQ(ratio, 1.0f);
   // The value's bytes follow its name, type and size: name\0 type\0 size.
   EXPECT_EQ(bytes.substr(offset - 4 - 6 - 17, 17), std::string("pixelAspectRatio\0", 17));
+}
+
+// A finished scanline file is checked to its last byte (what a writer does before its rename):
+// files OpenEXR wrote, in every compression, pass; each way of being incomplete or other than
+// meant is named. Oracle: the OpenEXR layout (header, one 8-byte offset per block of the
+// compression's rows, chunks of y, size and data), the bytes changed by hand.
+TEST(ExrHeader, AScanlineFileIsCheckedToItsLastByte) {
+  TempDir t;
+  const int w = 7, h = 37;  // rows: not a whole number of 16-, 32- or 256-row blocks
+  auto write = [&](const std::string& path, Imf::Compression c, int channels) {
+    Imf::Header header(w, h);
+    header.compression() = c;
+    std::vector<std::string> names;
+    for (int k = 0; k < channels; ++k) names.emplace_back(1, static_cast<char>('A' + k));
+    for (const std::string& n : names) header.channels().insert(n, Imf::Channel(Imf::HALF));
+    std::vector<std::uint16_t> px(static_cast<std::size_t>(w * h * channels), 0x3c00);  // 1.0
+    Imf::FrameBuffer fb;
+    for (int k = 0; k < channels; ++k)
+      fb.insert(names[k], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(px.data() + k),
+                                     2 * channels, 2 * channels * w));
+    Imf::OutputFile out(path.c_str(), header);
+    out.setFrameBuffer(fb);
+    out.writePixels(h);
+  };
+  for (const Imf::Compression c :
+       {Imf::NO_COMPRESSION, Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::DWAB_COMPRESSION}) {
+    SCOPED_TRACE(static_cast<int>(c));
+    const std::string path = t / "whole.exr";
+    write(path, c, 5);
+    EXPECT_EQ(exr_scanline_problem(path, w, h, 5), "");
+    EXPECT_NE(exr_scanline_problem(path, w, h + 1, 5).find("data window is 7x37"),
+              std::string::npos);
+    EXPECT_NE(exr_scanline_problem(path, w, h, 6).find("5 channels, not 6"), std::string::npos);
+    const std::string bytes = bytes_of(path);
+    // Cut short by one byte, or one byte too long: the chunks do not end at the last byte.
+    write_bytes(t / "short.exr", bytes.substr(0, bytes.size() - 1));
+    EXPECT_NE(exr_scanline_problem(t / "short.exr", w, h, 5), "");
+    std::string longer = bytes;
+    longer.push_back('x');
+    write_bytes(t / "long.exr", longer);
+    EXPECT_NE(exr_scanline_problem(t / "long.exr", w, h, 5).find("end at byte"), std::string::npos);
+  }
+  // The line offset table: an offset never written (0), or one pointing at another block.
+  const std::string path = t / "zip.exr";
+  write(path, Imf::ZIP_COMPRESSION, 2);  // 3 blocks of 16 rows
+  const std::string bytes = bytes_of(path);
+  const auto extents = exr_attribute_extents(path);
+  ASSERT_TRUE(extents.count("type") == 0 && extents.count("channels") == 1);
+  std::size_t table = 0;  // after the last value and the header's closing NUL
+  for (const auto& [name, at] : extents)
+    table = std::max<std::size_t>(table, at.first + at.second + 1);
+  std::string zeroed = bytes;
+  std::memset(zeroed.data() + table + 8, 0, 8);
+  write_bytes(t / "zeroed.exr", zeroed);
+  EXPECT_NE(exr_scanline_problem(t / "zeroed.exr", w, h, 2).find("outside the file"),
+            std::string::npos);
+  std::string twice = bytes;
+  std::memcpy(twice.data() + table + 8, twice.data() + table, 8);  // block 1 -> block 0's chunk
+  write_bytes(t / "twice.exr", twice);
+  EXPECT_NE(exr_scanline_problem(t / "twice.exr", w, h, 2).find("not a block of its rows"),
+            std::string::npos);
+  // Not OpenEXR, or missing.
+  write_bytes(t / "text.exr", "not an image");
+  EXPECT_NE(exr_scanline_problem(t / "text.exr", w, h, 2), "");
+  EXPECT_EQ(exr_scanline_problem(t / "missing.exr", w, h, 2), "cannot be opened");
 }
 
 }  // namespace

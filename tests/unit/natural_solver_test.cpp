@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -189,12 +188,10 @@ TEST(NaturalSolver, TargetsWithoutASolutionGetBoundedValuesAndNoConvergence) {
                {"bound -1", 0.3 * rw, -1.0}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
-    const auto t0 = std::chrono::steady_clock::now();
     const NaturalSpectrum r = refl.solver.solve(c.t, c.upper);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_FALSE(r.converged);
-    EXPECT_LT(ms, 100.0);
+    // It gives up within its stated cap (counted, not timed: no load can break it).
+    EXPECT_LE(r.iterations, NaturalSolver::kMaxIterations);
     ASSERT_EQ(r.values.size(), refl.grid.size());
     for (double v : r.values) {
       EXPECT_GE(v, 0.0);

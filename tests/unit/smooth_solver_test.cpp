@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -281,12 +280,11 @@ TEST(SmoothSolver, SolverStopsOnAnInfeasibleTarget) {
   s.mode = Mode::reflectance;
   const Spectralizer sp(s);
   const SmoothSolver solver(sp.weights().columns(), Roughness::of_length(50, 5));
-  const auto t0 = std::chrono::steady_clock::now();
   const SmoothSpectrum r = solver.solve(2.0 * sp.reference_white(), 1.0);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_FALSE(r.converged);
-  EXPECT_LT(ms, 100.0);
+  // Within its stated cap (counted, not timed), the projection that found no start included.
+  EXPECT_LE(r.iterations,
+            SmoothSolver::max_iterations(static_cast<int>(sp.weights().columns().size())));
   for (double v : r.values) {
     EXPECT_GE(v, 0.0);
     EXPECT_LE(v, 1.0);

@@ -11,12 +11,14 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "core/work_counts.h"
 #include "file_test_support.h"
 #include "pipeline/table_cache.h"
 #include "test_support.h"
@@ -136,6 +138,43 @@ TEST(TablePool, ConcurrentGetsOfOneSettingGetOneEntry) {
     threads.emplace_back([&, i] { got[i] = &pool.get(s, kRec709Frame, kQuiet); });
   for (auto& t : threads) t.join();
   for (TablePool::Entry* e : got) EXPECT_EQ(e, got[0]);
+}
+
+// Files of one kind that start together (a batch's jobs) build one spectralizer: those arriving
+// while it is built wait for it (counted by core/work_counts.h, eight rounds of four threads).
+TEST(TablePool, ConcurrentFirstGetsBuildOneSpectralizer) {
+  for (int round = 0; round < 8; ++round) {
+    TablePool pool;
+    const Settings s = settings_of(Mode::reflectance);
+    const WorkCounts before = work_counts();
+    std::vector<TablePool::Entry*> got(4, nullptr);
+    std::vector<std::thread> threads;
+    for (std::size_t i = 0; i < got.size(); ++i)
+      threads.emplace_back([&, i] { got[i] = &pool.get(s, kRec709Frame, kQuiet); });
+    for (auto& t : threads) t.join();
+    EXPECT_EQ(work_counts().since(before).spectralizers_built, 1u) << "round " << round;
+    for (TablePool::Entry* e : got) EXPECT_EQ(e, got[0]);
+  }
+}
+
+// A failure to build is every waiting caller's, and a later call tries again.
+TEST(TablePool, AFailedBuildIsThrownToEveryCallerAndTriedAgainLater) {
+  TablePool pool;
+  Settings s = settings_of();
+  s.spectral.model = "no such model";
+  std::vector<std::thread> threads;
+  std::atomic<int> failed{0};
+  for (int i = 0; i < 3; ++i)
+    threads.emplace_back([&] {
+      try {
+        (void)pool.get(s, kRec709Frame, kQuiet);
+      } catch (const Error&) {
+        ++failed;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(failed, 3);
+  EXPECT_THROW((void)pool.get(s, kRec709Frame, kQuiet), Error);
 }
 
 TEST(TablePool, ACacheFolderIsLoadedOnceAndSavedWhenTheTableGrew) {

@@ -61,4 +61,14 @@ std::pair<std::vector<double>, std::vector<double>> embedded_column(std::string_
 /// Names of the data columns (all but wavelength_nm) of an embedded CSV table. Cost: O(cols).
 std::vector<std::string> embedded_columns(std::string_view file);
 
+/// Every column of an embedded CSV table, as stored: the wavelengths and, per data column in
+/// the file's order, its name and values (an empty cell is 0). Throws Error for a malformed
+/// table. Cost: O(rows x columns), one parse.
+struct EmbeddedTable {
+  std::vector<double> wavelengths;
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+};
+EmbeddedTable embedded_table(std::string_view file);
+
 }  // namespace spectralize
