@@ -5,7 +5,7 @@ CMAKE_FLAGS ?=
 # The interpreter Debian's numpy, pybind11 and OpenImageIO bindings belong to.
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: all deps configure build test test-long demo bench install docs format format-check clean test-asan \
+.PHONY: all deps configure build test test-long demo bench bench-files install docs format format-check clean test-asan \
 	test-tsan fuzz figures validate docs-figures renders docs-renders test-platform
 FUZZ_SECONDS ?= 60
 
@@ -120,8 +120,15 @@ bench: deps build
 	@$(BUILD_DIR)/tests/bench/sigmoid_study 64 20000 2
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
+	@bash tests/bench/bench_tiny_files.sh $(BUILD_DIR) 5 $(BENCH_BASELINE)
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
+
+# The cost of a file beyond its pixels: ingest of 300 and 3,000 tiny PNGs, CPU and wall per file
+# (tests/bench/bench_tiny_files.sh); BENCH_BASELINE=path/to/an/older/spectralize runs it beside.
+# On Debian sid's stack: make test-platform PLATFORM_TARGETS=bench-files.
+bench-files: deps build
+	@bash tests/bench/bench_tiny_files.sh $(BUILD_DIR) 5 $(BENCH_BASELINE)
 
 SOURCES = $(shell find src include tests oiio_plugin python -name '*.cpp' -o -name '*.h' -o -name '*.hpp' -o -name '*.c' 2>/dev/null) \
 	$(shell find docs/snippets -name '*.cpp' -o -name '*.c' 2>/dev/null)

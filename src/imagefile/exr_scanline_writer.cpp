@@ -5,12 +5,12 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
-#include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <vector>
 
 #include "imagefile/openexr_compat.h"
@@ -68,7 +68,8 @@ class ProxyStream final : public Imf::OStream {
 };
 
 // The header OpenImageIO writes for `spec`: a one-row file of the spec made in memory by OIIO,
-// read back by OpenEXR, with the real data window.
+// its header read back by OpenEXR (the attributes only, not a whole file's reader), with the
+// real data window.
 Imf::Header oiio_header(const OIIO::ImageSpec& spec, const std::string& file) {
   OIIO::ImageSpec one = spec;
   one.height = 1;
@@ -83,10 +84,18 @@ Imf::Header oiio_header(const OIIO::ImageSpec& spec, const std::string& file) {
     if (!out->write_scanline(one.y, 0, OIIO::TypeUnknown, row.data()) || !out->close())
       throw Error("'" + file + "': cannot make the OpenEXR header: " + out->geterror());
   }
+  // The header alone (magic and version, then the attributes): not a whole file's reader.
+  if (bytes.size() < 8) throw Error("'" + file + "': cannot make the OpenEXR header: too short");
+  int version = 0;
+  std::memcpy(&version, bytes.data() + 4, 4);  // little-endian, as OpenEXR stores it
   Imf::StdISStream in;
-  in.str(std::string(bytes.begin(), bytes.end()));
-  Imf::InputFile header_file(in);
-  Imf::Header h = header_file.header();
+  in.str(std::string(bytes.begin() + 8, bytes.end()));
+  Imf::Header h;
+  try {
+    h.readFrom(in, version);
+  } catch (const std::exception& e) {
+    throw Error("'" + file + "': cannot make the OpenEXR header: " + e.what());
+  }
   h.dataWindow() = Imath::Box2i(Imath::V2i(spec.x, spec.y),
                                 Imath::V2i(spec.x + spec.width - 1, spec.y + spec.height - 1));
   // OpenEXR keeps zip's and DWA's levels in memory only (the file does not record them): set
@@ -140,6 +149,10 @@ ExrScanlineWriter::ExrScanlineWriter(const OIIO::ImageSpec& spec, OIIO::Filesyst
     m.offsets.push_back(offset);
     offset += t.size();
   }
+  // One block (a small image) leaves nothing to compress in parallel: no worker line buffers,
+  // each with its own compressor.
+  const int rows = exr_block_rows(spec.get_string_attribute("compression", "zip"));
+  if (spec.height <= rows) workers = 0;
   try {
     m.out = std::make_unique<Imf::OutputFile>(m.stream, oiio_header(spec, file), workers);
   } catch (const Error&) {

@@ -23,8 +23,9 @@ class ExrScanlineWriter {
  public:
   /// Opens a scanline OpenEXR of `spec` (all channels one sample type, HALF or FLOAT; its
   /// "compression" as OIIO spells it, with zip's level) on `proxy`, which receives every byte.
-  /// `workers`: OpenEXR's compression threads (≥ 1). Throws Error naming `file`.
-  /// Cost: OIIO writing a one-row file in memory to make the header, ~1 ms.
+  /// `workers`: OpenEXR's compression threads (≥ 1; none for an image of one block). Throws
+  /// Error naming `file`. Cost: OIIO writing a one-row file in memory to make the header,
+  /// ~0.5 ms for 84 channels.
   ExrScanlineWriter(const OIIO::ImageSpec& spec, OIIO::Filesystem::IOProxy* proxy,
                     const std::string& file, int workers);
   ~ExrScanlineWriter();

@@ -32,6 +32,7 @@ stats() {  # files
 median() {
   sort -g | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'
 }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.4f", a / b}'; }
 
 "$build/spectralize" --version | head -1
 echo "$(nproc) cores; $runs runs of each; ms per file (min / median / max), the process start included"
@@ -52,8 +53,8 @@ for n in "${counts[@]}"; do
     printf '%6s baseline: CPU %s ms, wall %s ms\n' "" "$(cut -d' ' -f1 "$work/old.txt" | stats "$n")" \
       "$(cut -d' ' -f2 "$work/old.txt" | stats "$n")"
     printf '%6s ratio of medians (this / baseline): CPU %.2f, wall %.2f\n' "" \
-      "$(echo "$(cut -d' ' -f1 "$work/new.txt" | median) / $(cut -d' ' -f1 "$work/old.txt" | median)" | bc -l)" \
-      "$(echo "$(cut -d' ' -f2 "$work/new.txt" | median) / $(cut -d' ' -f2 "$work/old.txt" | median)" | bc -l)"
+      "$(ratio "$(cut -d' ' -f1 "$work/new.txt" | median)" "$(cut -d' ' -f1 "$work/old.txt" | median)")" \
+      "$(ratio "$(cut -d' ' -f2 "$work/new.txt" | median)" "$(cut -d' ' -f2 "$work/old.txt" | median)")"
   fi
   rm -rf "$dir"
 done
