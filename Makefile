@@ -5,7 +5,7 @@ CMAKE_FLAGS ?=
 # The interpreter Debian's numpy, pybind11 and OpenImageIO bindings belong to.
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: all deps configure build test test-long demo bench bench-files install docs format format-check clean test-asan \
+.PHONY: all deps configure build test test-long demo bench bench-files bench-mitsuba docs-mitsuba install docs format format-check clean test-asan \
 	test-tsan fuzz figures validate docs-figures renders docs-renders test-platform
 FUZZ_SECONDS ?= 60
 
@@ -123,6 +123,22 @@ bench: deps build
 	@bash tests/bench/bench_tiny_files.sh $(BUILD_DIR) 5 $(BENCH_BASELINE)
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
+	@$(MAKE) --no-print-directory bench-mitsuba
+
+# Mitsuba 3: one scene rendered with its bitmap and with spectralize_rgb, same spp, same run
+# (tests/bench/bench_mitsuba.py, in the virtual environment of cmake/install-deps.sh).
+VENV ?= $(or $(SPECTRALIZE_VENV),$(HOME)/.cache/spectralize/venv)
+# The guide's Mitsuba picture (docs/figures/mitsuba_example.png) from docs/examples/mitsuba_scene.py.
+docs-mitsuba: deps build
+	@PYTHONPATH=$(BUILD_DIR)/python DRJIT_LIBLLVM_PATH=$$(ls /usr/lib/*/libLLVM.so.19* | head -1) \
+	  SPECTRALIZE_CACHE=$(BUILD_DIR)/mitsuba_cache SPECTRALIZE_EXE=$(BUILD_DIR)/spectralize \
+	  $(VENV)/bin/python docs/examples/mitsuba_scene.py $(BUILD_DIR)/mitsuba_example.png 256
+	@cp $(BUILD_DIR)/mitsuba_example.png docs/figures/
+
+bench-mitsuba: deps build
+	@PYTHONPATH=$(BUILD_DIR)/python DRJIT_LIBLLVM_PATH=$$(ls /usr/lib/*/libLLVM.so.19* | head -1) \
+	  SPECTRALIZE_CACHE=$(BUILD_DIR)/mitsuba_cache \
+	  $(VENV)/bin/python tests/bench/bench_mitsuba.py 5 $(CURDIR)/testimages/colorchecker_srgb8.png
 
 # The cost of a file beyond its pixels: ingest of 300 and 3,000 tiny PNGs, CPU and wall per file
 # (tests/bench/bench_tiny_files.sh); BENCH_BASELINE=path/to/an/older/spectralize runs it beside.

@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Install the Debian packages spectralize builds and tests with.
-# Idempotent: checks with dpkg first, so it returns in well under a second when all are present.
+# Install what spectralize builds and tests with: the Debian packages, then the pinned Python
+# packages of cmake/python-requirements.txt (PyPI) into a virtual environment that also sees
+# Debian's packages ($SPECTRALIZE_VENV, default ~/.cache/spectralize/venv).
+# Idempotent: checks with dpkg first and with a stamp of the requirements in the environment,
+# so it returns in well under a second when all are present.
 set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
 
 packages=(
   cmake make g++ pkg-config
@@ -18,6 +22,7 @@ packages=(
   python3-sphinx python3-myst-parser python3-sphinx-rtd-theme man-db groff-base
   chromium python3-websocket
   debootstrap
+  python3-venv libllvm19
 )
 
 # HEIF's encoders: libheif 1.16 and later (Debian 13, sid) ship them as plugins of their own
@@ -40,9 +45,27 @@ missing_of() {
   done
 }
 
+# The virtual environment: Debian's interpreter (the one the module is built for), its packages
+# visible, the pinned ones from PyPI. Remade when the interpreter or the requirements change.
+python_packages() {
+  local venv=${SPECTRALIZE_VENV:-${HOME:-/root}/.cache/spectralize/venv}
+  local requirements="$here/python-requirements.txt" stamp want
+  want="$(/usr/bin/python3 --version) $(sha256sum "$requirements" | cut -d' ' -f1)"
+  stamp="$venv/.spectralize-requirements"
+  if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ] && [ -x "$venv/bin/python" ]; then
+    return 0
+  fi
+  echo "install-deps: Python packages into $venv"
+  rm -rf "$venv"
+  /usr/bin/python3 -m venv --system-site-packages "$venv"
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$requirements"
+  echo "$want" >"$stamp"
+}
+
 # shellcheck disable=SC2207
 missing=($(missing_of "${packages[@]}" $(heif_plugins)))
 if [ ${#missing[@]} -eq 0 ]; then
+  python_packages
   exit 0
 fi
 
@@ -61,4 +84,5 @@ install "${missing[@]}"
 # shellcheck disable=SC2207
 late=($(missing_of $(heif_plugins)))
 [ ${#late[@]} -eq 0 ] || install "${late[@]}"
+python_packages
 echo "install-deps: done"

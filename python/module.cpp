@@ -29,9 +29,11 @@
 #include "pipeline/render_table.h"
 #include "pipeline/table_pool.h"
 #include "py_arrays.h"
+#include "py_image_rgb.h"
 #include "py_interrupt.h"
 #include "py_options.h"
 #include "py_rt.h"
+#include "py_submodules.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectrum_model.h"
 #include "spectralize/version.h"
@@ -543,7 +545,9 @@ PYBIND11_MODULE(spectralize, m) {
          options_doc(kTableScope))
             .c_str());
   add_rt_module(m);
+  add_image_rgb(m);
   m.def("models", &models,
         "models() -> list of dicts (name, summary, default): the spectrum models for model=.\n"
         "No arguments. Cost: O(models).");
+  add_python_submodules(m);
 }

@@ -4,8 +4,10 @@
 #include <pybind11/numpy.h>
 #include <spectralize/rt.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +81,86 @@ class RtTable {
     return py::make_tuple(out, tally);
   }
 
+  // The blends of colours (..., 3): each colour's spectrum as up to four rows of `samples`
+  // and their weights (a light's scale folded in), the samples of those rows at the table's
+  // bands, and the counts. What a renderer gathers from on its own arrays.
+  py::tuple blend(const py::handle& rgb, int threads) const {
+    const auto colours = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(rgb);
+    if (!colours || colours.ndim() < 1 || colours.shape(colours.ndim() - 1) != 3)
+      throw py::value_error("rt.Table.blend(): rgb: expected an array of shape (..., 3)");
+    const std::size_t n = static_cast<std::size_t>(colours.size() / 3);
+    const spz::TableView& t = view();
+    const bool reflectance = t.reflectance();
+    std::vector<std::uint32_t> vertex(4 * n);
+    std::vector<float> weight(4 * n);
+    std::array<std::atomic<std::size_t>, 4> counts{};
+    const float* src = colours.data();
+    {
+      py::gil_scoped_release release;
+      OIIO::parallel_for_chunked(
+          0, static_cast<int64_t>(n), 4096,
+          [&](int64_t begin, int64_t end) {
+            std::size_t c[4] = {0, 0, 0, 0};
+            for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+              spz::Spectrum s;
+              const int status = t.fetch(src + 3 * i, s);
+              ++c[status == SPZ_EXACT     ? 0
+                  : status == SPZ_MAPPED  ? 1
+                  : status == SPZ_INVALID ? 2
+                                          : 3];
+              const float scale = !s.table ? 0.0f : reflectance ? 1.0f : s.scale;
+              for (int k = 0; k < 4; ++k) {
+                vertex[4 * i + k] = s.table ? s.vertex[k] : 0;
+                weight[4 * i + k] = s.weight[k] * scale;
+              }
+            }
+            for (int k = 0; k < 4; ++k) counts[k] += c[k];
+          },
+          OIIO::paropt(threads));
+    }
+    // The distinct spectra blended, in order; each colour's rows index them.
+    std::vector<std::uint32_t> distinct(vertex);
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    std::vector<py::ssize_t> shape(colours.shape(), colours.shape() + colours.ndim());
+    shape.back() = 4;
+    py::array_t<std::uint32_t> rows(shape);
+    py::array_t<float> weights(shape);
+    const std::size_t bands = t.bands();
+    py::array_t<float> samples(
+        {static_cast<py::ssize_t>(distinct.size()), static_cast<py::ssize_t>(bands)});
+    std::uint32_t* r = rows.mutable_data();
+    float* w = weights.mutable_data();
+    float* out = samples.mutable_data();
+    {
+      py::gil_scoped_release release;
+      OIIO::parallel_for_chunked(
+          0, static_cast<int64_t>(4 * n), 1 << 16,
+          [&](int64_t begin, int64_t end) {
+            for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+              r[i] = static_cast<std::uint32_t>(
+                  std::lower_bound(distinct.begin(), distinct.end(), vertex[i]) - distinct.begin());
+              w[i] = weight[i];
+            }
+          },
+          OIIO::paropt(threads));
+      // A spectrum of one vertex at weight 1 gives that vertex's samples exactly.
+      for (std::size_t j = 0; j < distinct.size(); ++j) {
+        spz::Spectrum one{};
+        one.table = &t;
+        for (int k = 0; k < 4; ++k)
+          one.vertex[k] = distinct[j], one.weight[k] = k == 0 ? 1.0f : 0.0f;
+        one.scale = 1.0f;
+        one.flags = ((distinct[j] & SPZ_BOUNDARY_BIT) ? 1u : 0u) | (reflectance ? 2u : 0u);
+        spz::samples(one, out + j * bands);
+      }
+    }
+    py::dict tally;
+    const char* names[4] = {"exact", "mapped", "invalid", "negative"};
+    for (int k = 0; k < 4; ++k) tally[names[k]] = counts[k].load();
+    return py::make_tuple(rows, weights, samples, tally);
+  }
+
  private:
   spz::Table table_;
 };
@@ -104,6 +186,15 @@ void add_rt_module(py::module_& m) {
           "The OCIO colour space the table's RGB belongs to. Cost: O(1).")
       .def_property_readonly("wavelengths", &RtTable::wavelengths,
                              "The table's bands in nm, (N,) float64. Cost: O(N).")
+      .def_property_readonly(
+          "rgb_to_xyz",
+          [](const RtTable& t) {
+            py::array_t<double> m({3, 3});
+            std::copy(t.view().header().rgb_to_xyz, t.view().header().rgb_to_xyz + 9,
+                      m.mutable_data());
+            return m;
+          },
+          "The colour space's RGB -> CIE XYZ (D65) matrix, (3, 3) float64. Cost: O(1).")
       .def("spectra", &RtTable::spectra, py::arg("rgb"), py::kw_only(),
            py::arg("wavelengths") = py::none(), py::arg("threads") = 0,
            "spectra(rgb, *, wavelengths=None, threads=0) -> (values, counts)\n\n"
@@ -112,7 +203,17 @@ void add_rt_module(py::module_& m) {
            "wavelengths given (nm, 1-D). counts: how many colours were exact, mapped (into\n"
            "the gamut), invalid (NaN, infinite: zero spectra) and negative (luminance below 0:\n"
            "zero spectra). Without the GIL, on `threads` threads (0: all cores). Cost:\n"
-           "O(colours x N).");
+           "O(colours x N).")
+      .def("blend", &RtTable::blend, py::arg("rgb"), py::kw_only(), py::arg("threads") = 0,
+           "blend(rgb, *, threads=0) -> (rows, weights, samples, counts)\n\n"
+           "Each colour's spectrum (rgb (..., 3) as in spectra()) as the blend it is: rows\n"
+           "(..., 4) uint32 into samples (R, N) float32 (the table's N bands of the R distinct\n"
+           "spectra blended) and weights (..., 4) float32 (summing to 1 for a reflectance, to\n"
+           "the light's X+Y+Z for a light; 0 for invalid and negative colours), so that the\n"
+           "spectrum is sum(weights[k] * samples[rows[k]]), as spectra() gives it to float\n"
+           "rounding (a reflectance clamped to 1). For renderers that gather spectra on\n"
+           "their own arrays (spectralize.mitsuba). Without the GIL, on `threads` threads\n"
+           "(0: all cores). Cost: O(colours log colours + R x N).");
 }
 
 }  // namespace spectralize::python

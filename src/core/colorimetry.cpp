@@ -94,6 +94,26 @@ Observer load_observer(std::string name, std::string_view file) {
   return o;
 }
 
+// The CIE 1931 observer as Mitsuba 3 integrates it: the table's 5 nm points, linear between
+// them (95 samples, 360..830 nm), and the constant its film divides by (MI_CIE_Y_NORMALIZATION
+// = 1 / 106.7502593994140625, 0.1% less than the integral of that ybar, 106.857: a unit
+// spectrum renders as Y = 1.001). A light's spectrum meets Mitsuba's film only with both.
+constexpr double kMitsubaYIntegral = 106.7502593994140625;
+Observer at_5nm(const Observer& o, std::string name) {
+  Observer out;
+  out.name = std::move(name);
+  for (int c = 0; c < 3; ++c) {
+    out.cmf[c].resize(ReferenceTable::kSize);
+    for (std::size_t k = 0; k < ReferenceTable::kSize; ++k) {
+      const std::size_t a = k - k % 5, b = std::min(a + 5, ReferenceTable::kSize - 1);
+      const double t = b == a ? 0.0 : static_cast<double>(k - a) / static_cast<double>(b - a);
+      out.cmf[c][k] = (1 - t) * o.cmf[c][a] + t * o.cmf[c][b];
+    }
+  }
+  out.y_integral = kMitsubaYIntegral;
+  return out;
+}
+
 // CIE 015 daylight series at correlated colour temperature `cct` (K) from S0, S1, S2.
 std::vector<double> daylight(double cct) {
   double t = cct * 1.4388 / 1.4380;  // the 1968 change of c2 (CIE 015:2018 note)
@@ -170,19 +190,21 @@ std::vector<double> embedded_column_on_reference(std::string_view file, std::str
 
 const Observer& Observer::get(std::string_view name) {
   static std::once_flag once;
-  static std::optional<Observer> cie1931, cie1964;
+  static std::optional<Observer> cie1931, cie1931_mitsuba, cie1964;
   std::call_once(once, [] {
     cie1931 = load_observer("cie1931", "cie1931_2deg_cmf_1nm.csv");
+    cie1931_mitsuba = at_5nm(*cie1931, "cie1931_mitsuba");
     cie1964 = load_observer("cie1964", "cie1964_10deg_cmf_1nm.csv");
   });
   std::string n = lower(name);
   if (n == "cie1931" || n == "cie1931_2" || n == "1931" || n == "2") return *cie1931;
+  if (n == "cie1931_mitsuba") return *cie1931_mitsuba;
   if (n == "cie1964" || n == "cie1964_10" || n == "1964" || n == "10") return *cie1964;
   throw Error("unknown observer " + quote(name) + " (valid: " + join(names()) + ")");
 }
 
 std::vector<std::string> Observer::names() {
-  return {"cie1931", "cie1964"};
+  return {"cie1931", "cie1931_mitsuba", "cie1964"};
 }
 
 Illuminant Illuminant::get(std::string_view name) {

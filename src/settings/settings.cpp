@@ -125,8 +125,9 @@ std::vector<SettingSpec> make_schema() {
                [](Settings& v, std::string_view t) { v.spectral.grid = WavelengthGrid::parse(t); },
                [](const Settings& v) { return v.spectral.grid.to_string(); }, nullptr});
   s.push_back({"observer", "--observer", "NAME", "observer",
-               "CIE standard observer: cie1931 (2 degrees) or cie1964 (10 degrees)", kAllCommands,
-               true, true,
+               "CIE standard observer: cie1931 (2 degrees), cie1931_mitsuba (the same as "
+               "Mitsuba 3 integrates it: at 5 nm, linear between) or cie1964 (10 degrees)",
+               kAllCommands, true, true,
                [](Settings& v, std::string_view t) { v.spectral.observer = Observer::get(t).name; },
                [](const Settings& v) { return v.spectral.observer; }, nullptr});
   s.push_back(

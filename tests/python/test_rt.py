@@ -61,6 +61,37 @@ def test_wavelengths_of_ones_own_are_the_piecewise_linear_values(srgb_table):
     assert np.allclose(values, want, atol=1e-6)
 
 
+def test_blends_are_the_spectra(sp, srgb_table, tmp_path):
+    """Oracle: spectra() of the same colours, and the weights' own sums (1 for a reflectance,
+    X+Y+Z of the colour for a light, 0 for colours without a spectrum)."""
+    rng = np.random.default_rng(5)
+    rgb = rng.uniform(-0.1, 1.2, size=(300, 2, 3)).astype(np.float32)
+    rgb[0, 0] = np.nan
+    for t, scale in ((srgb_table, None), (None, "emission")):
+        if t is None:
+            path = tmp_path / "light.spztab"
+            sp.table(str(path), colorspace="Linear Rec.709 (sRGB)", mode="emission",
+                     wavelengths="380:780:10")
+            t = sp.rt.Table(str(path))
+        rows, weights, samples, counts = t.blend(rgb)
+        assert rows.shape == (300, 2, 4) and rows.dtype == np.uint32
+        assert weights.shape == (300, 2, 4) and weights.dtype == np.float32
+        assert samples.shape[1] == t.wavelengths.size and samples.dtype == np.float32
+        assert rows.max() < samples.shape[0]
+        values, want_counts = t.spectra(rgb)
+        assert counts == want_counts
+        blended = np.einsum("...k,...kn->...n", weights, samples[rows])
+        if t.mode == "reflectance":
+            blended = np.minimum(blended, 1.0)
+        assert np.max(np.abs(blended - values)) <= 1e-5 * max(1.0, float(np.abs(values).max()))
+        sums = weights.sum(-1)
+        assert sums[0, 0] == 0  # NaN: the zero spectrum
+        valid = np.isfinite(rgb).all(-1) & (sums != 0)
+        if t.mode == "reflectance":
+            assert np.allclose(sums[valid], 1.0, atol=1e-5)
+        assert np.all(weights >= 0)
+
+
 def test_a_bad_file_is_refused_naming_it(sp, tmp_path):
     missing = tmp_path / "missing.spztab"
     with pytest.raises(OSError, match="missing.spztab"):

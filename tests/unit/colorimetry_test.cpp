@@ -127,6 +127,10 @@ TEST(Observer, YIntegralIsPbrtsConstant) {
     const Observer& o = Observer::get(name);
     EXPECT_NEAR(o.y_integral, test::y_integral(o), 1e-12 * o.y_integral) << name;
   }
+  // Mitsuba's observer divides by Mitsuba's constant (MI_CIE_Y_NORMALIZATION = 1 /
+  // 106.7502593994140625, in mitsuba/core/spectrum.h), though its ybar integrates to 106.857.
+  EXPECT_EQ(Observer::get("cie1931_mitsuba").y_integral, 106.7502593994140625);
+  EXPECT_NEAR(test::y_integral(Observer::get("cie1931_mitsuba")), 106.857, 1e-3);
 }
 
 TEST(Observer, UnknownNameListsTheValidOnes) {
@@ -144,7 +148,7 @@ TEST(Observer, EveryAliasAndListedNameResolvesToItsTable) {
     EXPECT_EQ(&Observer::get(alias), &o10) << alias;
   }
   // The listed names are the canonical ones, and each resolves to the observer of that name.
-  ASSERT_EQ(Observer::names(), (std::vector<std::string>{"cie1931", "cie1964"}));
+  ASSERT_EQ(Observer::names(), (std::vector<std::string>{"cie1931", "cie1931_mitsuba", "cie1964"}));
   for (const std::string& name : Observer::names()) {
     EXPECT_EQ(Observer::get(name).name, name);
   }
@@ -166,6 +170,24 @@ TEST(Observer, TablesAreTheCsvFilesOfData) {
       }
     }
   }
+}
+
+// Mitsuba 3's colour matching: the 1931 table's values at its 5 nm points, linear between
+// them; at 502.5 nm ybar is the mean of 500 and 505 nm's (0.323, 0.4073), which Mitsuba
+// 3.9.1's cie1931_xyz(502.5) returns (0.36515); the 1 nm table there holds 0.3584.
+TEST(Observer, TheFiveNanometreObserverIsTheTableLinearBetweenItsFiveNanometrePoints) {
+  const Csv csv = read_csv("cie1931_2deg_cmf_1nm.csv");
+  const Observer& o = Observer::get("cie1931_mitsuba");
+  for (std::size_t k = 0; k < 471; ++k) {
+    const std::size_t a = k / 5 * 5, b = std::min<std::size_t>(a + 5, 470);
+    const double t = b == a ? 0 : static_cast<double>(k - a) / 5.0;
+    for (int c = 0; c < 3; ++c) {
+      const double want = (1 - t) * csv.rows[a][1 + c] + t * csv.rows[b][1 + c];
+      ASSERT_NEAR(o.cmf[c][k], want, 1e-15) << "nm " << 360 + k << " column " << c;
+    }
+  }
+  EXPECT_NEAR(0.5 * (o.cmf[1][at(502)] + o.cmf[1][at(503)]), 0.36515, 1e-6);
+  EXPECT_EQ(o.cmf[1][at(555)], 1.0);
 }
 
 TEST(Observer, ParseErrorsAreNotSilentlyAnotherObserver) {

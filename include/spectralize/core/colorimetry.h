@@ -24,12 +24,14 @@ struct ReferenceTable {
 
 /// A CIE standard observer: colour-matching functions xbar, ybar, zbar on the reference table.
 struct Observer {
-  std::string name;                        // "cie1931" or "cie1964"
+  std::string name;                        // "cie1931", "cie1931_mitsuba" or "cie1964"
   std::array<std::vector<double>, 3> cmf;  // xbar, ybar, zbar, ReferenceTable::kSize each
   double y_integral = 0;                   // K = sum_k tau_k ybar_k (pbrt's CIE_Y_integral)
 
-  /// The observer named `name` (cie1931 | cie1931_2 | cie1964 | cie1964_10, case-insensitive);
-  /// throws Error listing the valid names. Parsed once and cached. Cost: O(1) after first use.
+  /// The observer named `name` (cie1931 | cie1931_2 | cie1931_mitsuba | cie1964 | cie1964_10,
+  /// case-insensitive; cie1931_mitsuba: the 1931 table at its 5 nm points, linear between
+  /// them, with Mitsuba 3's Y normalisation: as Mitsuba 3 integrates); throws Error listing the
+  /// valid names. Parsed once and cached. Cost: O(1) after first use.
   static const Observer& get(std::string_view name);
   /// Canonical observer names. Cost: O(1).
   static std::vector<std::string> names();
