@@ -94,6 +94,21 @@ make_root() {
 
 [ -f "$root/.spectralize-root" ] || make_root
 cp -L /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+# pip in the root (the pinned Python packages) trusts what this machine trusts: its CA bundle
+# (pip's own, $PIP_CERT, or the system's), and takes this machine's pip settings ($PIP_*).
+host_ca=${PIP_CERT:-${REQUESTS_CA_BUNDLE:-${SSL_CERT_FILE:-/etc/ssl/certs/ca-certificates.crt}}}
+pip_env=()
+if [ -f "$host_ca" ]; then
+  mkdir -p "$root/etc/ssl/certs"
+  cp -L "$host_ca" "$root/etc/ssl/certs/spectralize-host-ca.crt"
+  pip_env+=(PIP_CERT=/etc/ssl/certs/spectralize-host-ca.crt)
+fi
+while IFS='=' read -r name value; do
+  case $name in
+    PIP_CERT | PIP_FIND_LINKS) ;;  # the bundle above; links to this machine's folders
+    PIP_*) pip_env+=("$name=$value") ;;
+  esac
+done < <(env)
 grep -q localhost "$root/etc/hosts" 2>/dev/null || printf '127.0.0.1\tlocalhost\n' >>"$root/etc/hosts"
 
 bind /proc /proc
@@ -127,7 +142,8 @@ fi
 
 in_root() {
   chroot "$root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    LANG=C.UTF-8 TERM=dumb DEBIAN_FRONTEND=noninteractive bash -c "cd /work/spectralize && $1" \
+    LANG=C.UTF-8 TERM=dumb DEBIAN_FRONTEND=noninteractive "${pip_env[@]}" \
+    bash -c "cd /work/spectralize && $1" \
     in-root "${@:2}"
 }
 start=$(date +%s)
