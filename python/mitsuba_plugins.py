@@ -248,12 +248,19 @@ def _plugin_classes(mi, dr):
                 raise ValueError("wrap_mode '%s' (valid: repeat, mirror, clamp)" % wrap_mode)
             self.width, self.height = width, height
             self.filter, self.wrap = filter_type, wrap_mode
-            self.to_uv = to_uv
+            # A 2-D affine map of uv (Mitsuba keeps it as a 4 x 4 matrix: rows u, v, with the
+            # translation in the last column).
+            self.to_uv = None
+            if to_uv is not None:
+                m = np.array(to_uv.matrix, dtype=np.float64).reshape(4, 4)
+                self.to_uv = tuple(float(x) for x in (m[0, 0], m[0, 1], m[0, 3], m[1, 0],
+                                                      m[1, 1], m[1, 3]))
 
         def taps(self, uv):
             """The texels at uv and their weights: [(index, weight)], one or four."""
             if self.to_uv is not None:
-                uv = self.to_uv @ uv
+                a, b, c, d, e, f = self.to_uv
+                uv = (a * uv[0] + b * uv[1] + c, d * uv[0] + e * uv[1] + f)
             w, h = self.width, self.height
             if self.filter == "nearest":
                 x = wrap(floor_i(uv[0] * w), w, self.wrap)
@@ -309,7 +316,7 @@ def _plugin_classes(mi, dr):
         return mi.UnpolarizedSpectrum(*values)
 
     def luminance(rgb):
-        return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+        return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2]  # as mi.luminance()
 
     # XYZ (D65) -> linear Rec.709, the RGB of Mitsuba's eval_3 (IEC 61966-2-1).
     xyz_to_709 = np.array([[3.2404542, -1.5371385, -0.4985314],
@@ -394,8 +401,12 @@ def _plugin_classes(mi, dr):
             self.image = Image(w, h, props_get(props, "filter_type", "bilinear"),
                                props_get(props, "wrap_mode", "repeat"), props_get(props, "to_uv"))
             self.bands = Bands(t.wavelengths)
-            # eval_1 / eval_3 / mean, as the bitmap: the RGB (in Mitsuba's linear Rec.709)
-            rgb709 = (rgb.reshape(-1, 3).astype(np.float64) @ (xyz_to_709 @ t.rgb_to_xyz).T)
+            # eval_1 / eval_3 / mean, as the bitmap: the RGB (in Mitsuba's linear Rec.709; a
+            # texture of those primaries as it is, others through CIE XYZ).
+            to_709 = xyz_to_709 @ t.rgb_to_xyz
+            if np.allclose(to_709, np.eye(3), atol=2e-3):
+                to_709 = np.eye(3)
+            rgb709 = rgb.reshape(-1, 3).astype(np.float64) @ to_709.T
             self.rgb = [held_f(rgb709[:, c]) for c in range(3)]
             self.mean_value = float(np.mean(luminance(rgb709.T)))
             self.max_value = float(np.max(samples if self.blended else values))
@@ -530,7 +541,9 @@ def _plugin_classes(mi, dr):
                                  "2x3 pixels" % (self.filename, w, h))
             self.scale = float(props_get(props, "scale", 1.0))
             to_world = props_get(props, "to_world")
-            self.to_world = mi.Transform4f(to_world) if to_world is not None else mi.Transform4f()
+            self.to_world = mi.Transform4f(mi.ScalarTransform4f(
+                np.array(to_world.matrix, dtype=np.float32).reshape(4, 4))) \
+                if to_world is not None else mi.Transform4f()
             # The periodic column, as Mitsuba's envmap adds it.
             values = np.concatenate([values, values[:, :1, :]], axis=1)
             self.res = (w + 1, h)

@@ -59,12 +59,12 @@ def srgb_decode(code):
 
 
 def flat_quad(mitsuba, texture, width, height, per_texel=2, spp=1024, sampler="independent",
-              light=None, seed=1):
+              light=None, seed=1, bsdf=None):
     """The texture on a quad filling an orthographic camera's view, one texel per per_texel^2
     pixels, lit by a constant environment (`light`: a spectrum dict; default Mitsuba's d65),
     by a `direct` integrator sampling only the diffuse BSDF (cosine-distributed: every sample
-    sees the light); returns each texel's mean linear Rec.709 RGB, (height, width, 3), row 0 at
-    the texture's top."""
+    sees the light; `bsdf`, another BSDF dict, replaces it); returns each texel's mean linear
+    Rec.709 RGB, (height, width, 3), row 0 at the texture's top."""
     scene = mitsuba.load_dict({
         "type": "scene",
         "integrator": {"type": "direct", "emitter_samples": 0, "bsdf_samples": 1},
@@ -78,7 +78,7 @@ def flat_quad(mitsuba, texture, width, height, per_texel=2, spp=1024, sampler="i
             "sampler": {"type": sampler, "sample_count": spp}},
         "quad": {"type": "rectangle",
                  "to_world": mitsuba.ScalarTransform4f().scale([1, height / width, 1]),
-                 "bsdf": {"type": "diffuse", "reflectance": texture}},
+                 "bsdf": bsdf or {"type": "diffuse", "reflectance": texture}},
         "light": {"type": "constant", "radiance": light or {"type": "d65"}}})
     img = np.array(mitsuba.render(scene, seed=seed), dtype=np.float64)
     # The rectangle's v runs up the image, the texture's rows down: texel row 0 is at the bottom.

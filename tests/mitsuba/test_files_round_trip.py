@@ -81,3 +81,36 @@ def test_an_hdri_through_its_spectral_file_lights_as_the_rgb_map(tmp_path):
               lit.sum(), np.round(ref.mean(0), 4), np.round(err_ours, 5), np.round(floor, 5),
               np.round(err_stock, 5)))
     assert np.all(err_ours <= 4 * floor + 3e-4 * ref.mean(0)), (err_ours, floor)
+
+
+def test_the_environment_maps_sampling_is_consistent(mi, tmp_path):
+    """Its directions are drawn with the density pdf_direction() reports, that density
+    integrates to 1 over the sphere, and a sample's weight is the radiance over the density.
+    Oracles: the definitions (uniform directions for the integral, 200,000 of them)."""
+    import drjit as dr
+    spectral = tmp_path / "sunset_spectral.exr"
+    spectralize(IMAGES / "hdri_sunset_256x128.exr", "-o", spectral, "--mode", "emission",
+                *MITSUBA_GRID)
+    em = mi.load_dict({"type": "spectral_envmap", "filename": str(spectral),
+                       "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], 30)})
+    n = 200_000
+    rng = np.random.default_rng(2)
+    it = dr.zeros(mi.Interaction3f, n)
+    it.wavelengths = mi.Spectrum(*[mi.Float(rng.uniform(400, 700, n).astype(np.float32))
+                                   for _ in range(4)])
+    ds, weight = em.sample_direction(it, mi.Point2f(rng.random(n), rng.random(n)))
+    pdf = em.pdf_direction(it, ds)
+    ok = np.array(ds.pdf) > 1e-3
+    assert np.allclose(np.array(pdf)[ok], np.array(ds.pdf)[ok], rtol=2e-3)
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = -ds.d
+    si.wavelengths = it.wavelengths
+    radiance = np.array(em.eval(si))
+    assert np.allclose(np.array(weight)[:, ok] * np.array(ds.pdf)[ok], radiance[:, ok],
+                       rtol=2e-3, atol=1e-6)
+    # The density integrates to 1: uniform directions, pdf / (1 / 4 pi), averaged.
+    u = mi.warp.square_to_uniform_sphere(mi.Point2f(rng.random(n), rng.random(n)))
+    probe = dr.zeros(mi.DirectionSample3f, n)
+    probe.d = u
+    integral = float(np.mean(np.array(em.pdf_direction(it, probe))) * 4 * np.pi)
+    assert abs(integral - 1) < 0.02, integral
