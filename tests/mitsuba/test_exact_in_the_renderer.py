@@ -130,3 +130,45 @@ def test_scalar_and_rgb_lookups_are_the_bitmaps(mi, tmp_path):
             "roughness": tex, "specular": 0.8})
     assert rms(render(dict(common, type="spectralize_rgb"))
                - render(dict(common, type="bitmap", raw=True))) <= 1e-5
+
+
+def primaries_to_xyz(xy, white):
+    """RGB -> XYZ of primaries and a white (CIE xy), the white at Y = 1."""
+    xy = np.asarray(xy, dtype=np.float64)
+    p = np.stack([xy[:, 0] / xy[:, 1], np.ones(3), (1 - xy.sum(1)) / xy[:, 1]])
+    w = np.array([white[0] / white[1], 1.0, (1 - white[0] - white[1]) / white[1]])
+    return p * np.linalg.solve(p, w)
+
+
+def bradford(src_white, dst_white):
+    b = np.array([[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367],
+                  [0.0389, -0.0685, 1.0296]])
+    xyz = lambda w: np.array([w[0] / w[1], 1.0, (1 - w[0] - w[1]) / w[1]])
+    return np.linalg.inv(b) @ np.diag((b @ xyz(dst_white)) / (b @ xyz(src_white))) @ b
+
+
+def test_a_texture_in_another_colour_space_renders_its_colours(mi, tmp_path):
+    """ACEScg (told by its EXR chromaticities, as the CLI decides it): colours of the Rec.709
+    reflectance gamut written in ACEScg render as those Rec.709 colours. Oracle: the AP1
+    primaries and the ACES white (ACES TB-2014-004), Bradford-adapted to D65 as the config's
+    ACEScg is, and the IEC Rec.709 matrix."""
+    import OpenImageIO as oiio
+    rng = np.random.default_rng(13)
+    rec709 = rng.uniform(0.05, 0.9, (H, W, 3))
+    d65, aces = (0.3127, 0.3290), (0.32168, 0.33767)
+    ap1_to_xyz = bradford(aces, d65) @ primaries_to_xyz(
+        [[0.713, 0.293], [0.165, 0.830], [0.128, 0.044]], aces)
+    acescg = rec709 @ (np.linalg.inv(ap1_to_xyz) @ primaries_to_xyz(
+        [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]], d65)).T
+    path = tmp_path / "plate_ap1.exr"
+    spec = oiio.ImageSpec(W, H, 3, "float")
+    spec.attribute("chromaticities", oiio.TypeDesc("float[8]"),
+                   (0.713, 0.293, 0.165, 0.830, 0.128, 0.044, 0.32168, 0.33767))
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec)
+    assert out.write_image(np.ascontiguousarray(acescg, dtype=np.float32))
+    out.close()
+    ours = {"type": "spectralize_rgb", "filename": str(path), "filter_type": "nearest",
+            "mode": "reflectance"}
+    got = flat_quad(mi, ours, W, H, spp=4096, sampler="stratified")
+    assert rms(got - rec709) <= 5e-4, rms(got - rec709)
