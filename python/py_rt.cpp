@@ -190,8 +190,8 @@ void add_rt_module(py::module_& m) {
           "rgb_to_xyz",
           [](const RtTable& t) {
             py::array_t<double> m({3, 3});
-            std::copy(t.view().header().rgb_to_xyz, t.view().header().rgb_to_xyz + 9,
-                      m.mutable_data());
+            const spz_file_header& h = t.view().header();
+            for (py::ssize_t i = 0; i < 9; ++i) m.mutable_at(i / 3, i % 3) = h.rgb_to_xyz[i];
             return m;
           },
           "The colour space's RGB -> CIE XYZ (D65) matrix, (3, 3) float64. Cost: O(1).")
