@@ -2,6 +2,9 @@
 
 #include <OpenImageIO/parallel.h>
 #include <pybind11/numpy.h>
+// The module's one unit that compiles the evaluator's definitions
+// (include/spectralize/rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <algorithm>

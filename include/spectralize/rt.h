@@ -17,10 +17,11 @@
  * a reflectance (bit for bit), and SPZ_EXACT only when it reproduces the colour to
  * SPZ_EXACT_TOLERANCE relative, at any magnitude.
  *
- * Header-only. C++ code can use <spectralize/rt.hpp> directly. For these C functions, define
- * SPECTRALIZE_RT_IMPLEMENTATION in exactly one C++ translation unit and include this header
- * there (after any earlier inclusion too): it then defines them (over rt.hpp); every other C or
- * C++ unit just includes it.
+ * Header-only, or compiled into libspectralize_rt (.so/.a). Header-only, define
+ * SPECTRALIZE_RT_IMPLEMENTATION in exactly one C++ translation unit and include this header (or
+ * <spectralize/rt.hpp>) there, after any earlier inclusion too: that unit then compiles these
+ * functions and what rt.hpp's C++ API does not define inline (<spectralize/rt_impl.hpp>: the
+ * loader, the validator, the rare paths). Every other C or C++ unit just includes the header.
  *
  *   spz_table *t = spz_table_load("srgb.spztab", err, sizeof err);   (NULL + message)
  *   spz_spectrum s;
@@ -150,10 +151,11 @@ SPZ_API void spz_table_rgb_to_target(const spz_table* table, double matrix[9]);
 
 #endif /* SPECTRALIZE_RT_H */
 
-/* rt.hpp defines the C functions at its end when SPECTRALIZE_RT_IMPLEMENTATION is set: outside
- * the include guard, so that the define works in a unit that included this header before. */
+/* With SPECTRALIZE_RT_IMPLEMENTATION, rt.hpp includes the definitions (rt_impl.hpp) at its end:
+ * outside the include guard, so that the define works in a unit that included this header
+ * before. */
 #if defined(__cplusplus) && defined(SPECTRALIZE_RT_IMPLEMENTATION) && \
-    !defined(SPECTRALIZE_RT_C_DEFINED) &&                             \
+    !defined(SPECTRALIZE_RT_DEFINED) &&                               \
     (!defined(SPECTRALIZE_RT_HPP) || defined(SPECTRALIZE_RT_HPP_DONE))
 #include <spectralize/rt.hpp>
 #endif

@@ -1,6 +1,6 @@
 #include "core/exact_table.h"
 
-#include <spectralize/rt.hpp>
+#include <spectralize/rt_impl.hpp>  // closest_in_simplex, as the evaluator's boundary cells
 
 #include <algorithm>
 #include <cmath>

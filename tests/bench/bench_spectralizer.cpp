@@ -5,6 +5,9 @@
 
 #include <benchmark/benchmark.h>
 
+// The benchmark's one unit: it compiles the evaluator's definitions
+// (include/spectralize/rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// libFuzzer target: the .spztab loader (include/spectralize/rt.hpp) on any bytes, its checksum
+// libFuzzer target: the .spztab loader (include/spectralize/rt_impl.hpp) on any bytes, its checksum
 // made valid so that mutations reach the validation of sizes, offsets, indices, values and
 // meaning; a table it accepts is then looked up on hostile colours (fixed ones, and colours made
 // of the input's own bytes) and every result is checked, not only for crashes: a status >= 0
@@ -8,6 +8,8 @@
 // behaviour (UndefinedBehaviorSanitizer). Seeds: LLVMFuzzerInitialize writes small valid tables
 // of both modes, every model and two wavelength steps into the first corpus folder when they
 // are missing.
+// The target's one unit: it compiles the loader (include/spectralize/rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <algorithm>

@@ -23,7 +23,8 @@ for f in bin/spectralize lib/spectralize/plugins/spectral.imageio.so \
          share/spectralize/ocio/spectralize.ocio share/spectralize/data/cie1931_2deg_cmf_1nm.csv \
          share/spectralize/farm/spectralize-ingest.sbatch include/spectralize/version.h \
          include/spectralize/core/spectralizer.h lib/libspectralize_core.a \
-         include/spectralize/rt.h include/spectralize/rt.hpp include/spectralize/rt_format.h \
+         include/spectralize/rt.h include/spectralize/rt.hpp include/spectralize/rt_impl.hpp \
+         include/spectralize/rt_format.h \
          lib/libspectralize_rt.a lib/libspectralize_rt.so lib/pkgconfig/spectralize-rt.pc \
          lib/cmake/spectralize/spectralizeConfig.cmake \
          lib/cmake/spectralize/spectralizeConfigVersion.cmake \

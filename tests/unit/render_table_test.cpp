@@ -14,6 +14,9 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+// The one unit of io_unit_tests that compiles the evaluator's definitions
+// (include/spectralize/rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <cstdint>

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+// rt's definitions (include/spectralize/rt_impl.hpp) for rt_tests, rt_hostile_test.cpp's too.
 #define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.h>
 #include <spectralize/rt_format.h>

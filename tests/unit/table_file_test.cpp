@@ -14,6 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <spectralize/rt_format.h>
+// The one unit of unit_tests that compiles the evaluator's definitions
+// (include/spectralize/rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <algorithm>

@@ -3,6 +3,8 @@
 // tables (docs/DESIGN.md §3) that the reflectance reproduces the colour under the table's
 // conventions. Prints "ok <relative error>"; exit 1 otherwise.
 // Usage: rt_consumer TABLE.spztab CIE1931_CSV D65_CSV
+// The program's one unit, so it compiles the evaluator's definitions (rt_impl.hpp).
+#define SPECTRALIZE_RT_IMPLEMENTATION
 #include <spectralize/rt.hpp>
 
 #include <algorithm>
