@@ -5,14 +5,20 @@ CMAKE_FLAGS ?=
 # The interpreter Debian's numpy, pybind11 and OpenImageIO bindings belong to.
 PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 
-.PHONY: all deps configure build test test-long demo bench bench-files bench-mitsuba docs-mitsuba install docs format format-check clean test-asan \
+.PHONY: all deps deps-demo deps-install configure build test test-long demo bench bench-files bench-mitsuba docs-mitsuba install docs format format-check clean test-asan \
 	test-tsan fuzz figures validate docs-figures renders docs-renders test-platform
 FUZZ_SECONDS ?= 60
 
 all: build
 
+# What each purpose needs (cmake/install-deps.sh): the demo's packages, the install's (the
+# demo's and Sphinx), everything for the tests.
 deps:
-	@bash cmake/install-deps.sh
+	@bash cmake/install-deps.sh test
+deps-demo:
+	@bash cmake/install-deps.sh demo
+deps-install:
+	@bash cmake/install-deps.sh install
 
 configure:
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) >/dev/null
@@ -74,15 +80,21 @@ fuzz: deps
 # Installs into PREFIX (default /usr/local): the tool, the OIIO plugin, the OCIO config and
 # data, headers and CMake package of the core library, the Python module.
 PREFIX ?= /usr/local
-install: deps build docs
+# Builds what it installs and the guide, never the tests.
+install: deps-install configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target installable
+	@cmake --build $(BUILD_DIR) --target docs
 	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 # The user guide (Sphinx, warnings as errors) into $(BUILD_DIR)/docs/html; the man page is
 # made by every build ($(BUILD_DIR)/docs/spectralize.1).
-docs: deps build
-	@cmake --build $(BUILD_DIR) --target docs
+docs: deps-install configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target docs
 
-demo: deps build
+# Installs and builds only what the demo runs (the tool, the plugin, the module; Mitsuba 3 in
+# the virtual environment), then runs it (cmake/demo.sh).
+demo: deps-demo configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target demo_targets
 	@bash cmake/demo.sh $(BUILD_DIR)
 
 # The paper's figures (fig1..fig6 PNGs, sphere dE2000 maps) into $(BUILD_DIR)/figures/.

@@ -34,4 +34,18 @@ for model in natural smooth paper; do
   "$bin" --color 0.21,0.72,0.15 --mode reflectance --model "$model" -o "$out/surface_$model.png" -q
 done
 echo "  plots of the surface: $out/surface_natural.png, surface_smooth.png, surface_paper.png"
+echo
+# The guide's Mitsuba 3 scene (docs/examples/mitsuba_scene.py): an albedo texture through
+# spectralize_rgb and spectral_bitmap, a spectralized HDRI through spectral_envmap.
+venv="${SPECTRALIZE_VENV:-${HOME:-/root}/.cache/spectralize/venv}"
+llvm=$(ls /usr/lib/*/libLLVM.so.19* 2>/dev/null | head -1)
+if [ -x "$venv/bin/python" ] && [ -n "$llvm" ] && ls "$build"/python/spectralize*.so >/dev/null 2>&1; then
+  echo "In Mitsuba 3 (llvm_ad_spectral), the guide's scene:"
+  PYTHONPATH="$build/python" DRJIT_LIBLLVM_PATH="$llvm" SPECTRALIZE_EXE="$bin" \
+    SPECTRALIZE_CACHE="$out/mitsuba_cache" \
+    "$venv/bin/python" docs/examples/mitsuba_scene.py "$out/mitsuba_scene.png" 16 | sed 's/^/  /'
+  echo "  picture: $out/mitsuba_scene.png (docs/guide/mitsuba.md)"
+else
+  echo "Mitsuba 3 is not set up (make demo installs it): its scene is left out."
+fi
 echo "More: make figures (the paper's figures), make validate (metamerism on measured reflectances)."

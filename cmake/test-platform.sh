@@ -153,8 +153,9 @@ if [ -n "$shell_command" ]; then
   say "'$shell_command' in the root: exit $status after $(($(date +%s) - start)) s"
   exit $status
 fi
-in_root 'bash cmake/install-deps.sh && make "$@" CMAKE_FLAGS=-DSPECTRALIZE_WERROR=ON' \
-  "${targets[@]}" || status=$?
+# Each make target installs what it needs (cmake/install-deps.sh); a fresh root lacks make.
+in_root 'command -v make >/dev/null || { apt-get update -qq && apt-get install -y -qq make >/dev/null; }
+  make "$@" CMAKE_FLAGS=-DSPECTRALIZE_WERROR=ON' "${targets[@]}" || status=$?
 
 versions=$(chroot "$root" dpkg-query -W -f='${Package} ${Version}\n' libopenimageio-dev \
   libopencolorio-dev libopenexr-dev libimath-dev g++ cmake python3 python3-numpy pybind11-dev \

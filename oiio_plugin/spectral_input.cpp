@@ -125,8 +125,11 @@ bool SpectralInput::open(const std::string& name, ImageSpec& newspec, const Imag
     // A reader writes nothing unless asked (docs/DESIGN.md §9): the recipe's node cache is
     // read if its folder exists, never created, and saved only with "cache_write": "yes".
     cache_write_ = recipe.cache_write;
-    if (!cache_write_ && !settings_.cache_dir.empty() && !fs::is_directory(settings_.cache_dir, ec))
+    if (!cache_write_ && !settings_.cache_dir.empty() &&
+        !fs::is_directory(settings_.cache_dir, ec)) {
       settings_.cache_dir.clear();
+      spectralize::set_aside(settings_, *spectralize::find_setting("cache"));
+    }
     auto log = [](int, const std::string&) {};  // the plugin has no console: errors only
     // The recipe's keys name the options in messages.
     const spectralize::OptionNames names{"", "the recipe's output"};

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <string>
 #include <vector>
@@ -336,9 +337,10 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
       value_error(kIngestScope, std::string("shard ") + e.what());
     }
   }
+  std::optional<JobPlan> job;  // planned once: the options checked, the batch's job
   try {
-    request.settings =
-        plan_to_spectral(read_options(options, kIngestScope), "", kKeywordNames).settings;
+    job = plan_to_spectral(read_options(options, kIngestScope), "", kKeywordNames);
+    request.settings = job->settings;
     request.names = kKeywordNames;
   } catch (const Error& e) {
     value_error(kIngestScope, e.what());
@@ -349,7 +351,7 @@ py::dict ingest(const py::object& sources, const py::object& output, const py::o
   bool ran = false;
   const bool finished = run_interruptibly([&](const StopFlag& stop) {
     try {
-      const IngestPlan plan = plan_ingest(request);
+      const IngestPlan plan = plan_ingest(request, std::move(job));
       ran = true;
       summary = run_ingest(plan, nullptr, messages.log(), &stop);
     } catch (const Error& e) {
@@ -424,7 +426,7 @@ py::dict table(const py::object& output, const py::kwargs& options) {
   d["output"] = out;
   d["colorspace"] = made.colorspace;
   d["mode"] = std::string(to_string(plan.settings.spectral.mode));
-  d["model"] = plan.settings.spectral.model;
+  d["model"] = std::string(plan.settings.spectral.model.name());
   d["wavelengths"] = plan.settings.spectral.grid.to_string();
   d["bytes"] = made.bytes.size();
   d["spectra"] = made.spectra;

@@ -72,7 +72,7 @@ inline std::uint64_t fnv1a(const unsigned char* p, std::size_t n,
 }
 
 // The checksum of a table: FNV-1a 64 of the bytes with the checksum field (24..31) as zeros.
-// The writer (src/core/table_file.cpp) computes it with this function too.
+// The writer (src/core/tables/table_file.cpp) computes it with this function too.
 inline std::uint64_t table_checksum(const unsigned char* data, std::size_t size) noexcept {
   const unsigned char zeros[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   std::uint64_t h = kFnv1aOffsetBasis;

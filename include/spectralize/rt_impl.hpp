@@ -4,7 +4,7 @@
 // of <spectralize/rt.h>. rt.hpp and rt.h include this file in the one translation unit that
 // defines SPECTRALIZE_RT_IMPLEMENTATION (src/rt_c/rt_c.cpp for libspectralize_rt), which
 // compiles them. Included without it, it gives only closest_in_simplex, whose arithmetic the
-// table writer (src/core/exact_table.cpp) shares with the boundary cells here.
+// table writer (src/core/tables/exact_table.cpp) shares with the boundary cells here.
 #ifndef SPECTRALIZE_RT_IMPL_HPP
 #define SPECTRALIZE_RT_IMPL_HPP
 

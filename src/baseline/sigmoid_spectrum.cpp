@@ -4,7 +4,7 @@
 #include <atomic>
 #include <thread>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"

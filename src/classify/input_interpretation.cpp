@@ -7,7 +7,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <set>
 
 #include "classify/light_or_surface.h"
@@ -30,39 +29,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-// "<curve>_<primaries>_scene" or "..._display" (lin_rec709_scene, srgb_rec709_display), or
-// "data": the shape of the Color Interop Forum's IDs, as OIIO 3 writes them in oiio:ColorSpace.
-bool looks_like_interop_id(std::string_view s) {
-  if (s == "data") return true;
-  const std::size_t first = s.find('_'), last = s.rfind('_');
-  if (first == std::string_view::npos || first == 0 || last <= first + 1) return false;
-  const std::string_view ref = s.substr(last + 1);
-  if (ref != "scene" && ref != "display") return false;
-  for (char c : s)
-    if (!(std::islower(static_cast<unsigned char>(c)) ||
-          std::isdigit(static_cast<unsigned char>(c)) || c == '_'))
-      return false;
-  return true;
-}
-
-// Names spaces of a known interop ID often have in configs (ACES, the shipped one), tried
-// after the file's own names and the config's roles, before every space of the config.
-const std::map<std::string, std::vector<std::string>>& usual_names() {
-  static const std::map<std::string, std::vector<std::string>> names = {
-      {"lin_rec709_scene", {"Linear Rec.709 (sRGB)", "lin_rec709", "Utility - Linear - sRGB"}},
-      {"lin_ap1_scene", {"ACEScg", "ACES - ACEScg", "lin_ap1"}},
-      {"lin_ap0_scene", {"ACES2065-1", "ACES - ACES2065-1", "lin_ap0"}},
-      {"lin_rec2020_scene", {"Linear Rec.2020", "lin_rec2020", "Utility - Linear - Rec.2020"}},
-      {"lin_p3d65_scene", {"Linear P3-D65", "lin_p3d65"}},
-      {"srgb_rec709_scene", {"sRGB - Texture", "srgb_tx", "Utility - sRGB - Texture"}},
-      {"g22_rec709_scene", {"Gamma 2.2 Rec.709 - Texture", "g22_rec709_tx"}},
-      {"g22_adobergb_scene", {"Adobe RGB (1998) - Texture"}},
-      {"srgb_p3d65_scene", {"Display P3 - Texture"}},
-      {"srgb_rec709_display", {"sRGB - Display", "srgb_display"}},
-  };
-  return names;
-}
-
 // The space of the config whose interop ID is `id`: the first of `preferred` (the names the
 // file itself gives: its oiio:ColorSpace, its ICC profile's) with that ID, then the config's
 // roles, the usual names, then any space of the config (so that an alias meaning something else
@@ -73,21 +39,20 @@ std::string find_space(const ColourSpaces& spaces, const std::string& id,
   for (const char* role : {"scene_linear", "rendering", "matte_paint", "color_picking",
                            "texture_paint", "aces_interchange", "data"})
     if (const std::string space = spaces.role(role); !space.empty()) candidates.push_back(space);
-  if (auto it = usual_names().find(id); it != usual_names().end())
-    candidates.insert(candidates.end(), it->second.begin(), it->second.end());
+  for (std::string_view name : usual_names_of(id)) candidates.emplace_back(name);
   std::set<std::string> tried;
   for (const std::string& name : candidates) {
     try {
       const std::string space = spaces.resolve(name);
       if (!tried.insert(space).second) continue;
-      if (spaces.interop_id(space) == id) return space;
+      if (spaces.facts(space).interop_id == id) return space;
     } catch (const Error&) {
     }
   }
   for (const std::string& space : spaces.names()) {
     if (tried.count(space)) continue;
     try {
-      if (spaces.interop_id(space) == id) return space;
+      if (spaces.facts(space).interop_id == id) return space;
     } catch (const Error&) {
     }
   }
@@ -134,8 +99,6 @@ PngChunks read_png_chunks(const std::string& file) {
   return out;
 }
 
-constexpr float kRec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
-
 std::string fmt_xy(const float* xy) {
   return OIIO::Strutil::fmt::format("{:.4f},{:.4f} {:.4f},{:.4f} {:.4f},{:.4f} white {:.4f},{:.4f}",
                                     xy[0], xy[1], xy[2], xy[3], xy[4], xy[5], xy[6], xy[7]);
@@ -153,7 +116,7 @@ struct Stated {
 // and a space of the known standard; "" when none is.
 Stated space_of_chromaticities(const float* xy, const ColourSpaces& spaces) {
   const std::array<float, 8> adapted = adapt_chromaticities_to_d65(xy);
-  const bool d65 = std::abs(xy[6] - 0.3127f) < 5e-4f && std::abs(xy[7] - 0.3290f) < 5e-4f;
+  const bool d65 = std::abs(xy[6] - kD65x) < 5e-4f && std::abs(xy[7] - kD65y) < 5e-4f;
   auto reason = [&](const std::string& space, double diff) {
     std::string r = "EXR chromaticities (" + fmt_xy(xy) + ") of '" + space + "'";
     if (!d65)
@@ -175,8 +138,8 @@ Stated space_of_chromaticities(const float* xy, const ColourSpaces& spaces) {
   double best_diff = kChromaticityTolerance;
   for (const std::string& space : spaces.names()) {
     try {
-      if (spaces.is_data(space) || spaces.is_display_referred(space) || !spaces.is_linear(space))
-        continue;
+      const ColourSpaceFacts& f = spaces.facts(space);
+      if (f.data || f.display_referred || !f.linear) continue;
       const auto p = spaces.primaries_d65(space);
       if (!p) continue;
       const double d = chromaticity_difference(p->data(), adapted.data());
@@ -294,7 +257,8 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
   const bool png = OIIO::Strutil::iends_with(file, ".png");
   const PngChunks chunks = png ? read_png_chunks(file) : PngChunks{};
   if (png) {
-    if (chunks.chrm && chromaticity_difference(chunks.xy, kRec709) > kChromaticityTolerance) {
+    if (chunks.chrm && chromaticity_difference(chunks.xy, known_primaries().front().native.data()) >
+                           kChromaticityTolerance) {
       warnings.push_back(where + "its PNG cHRM primaries (" +
                          OIIO::Strutil::fmt::format("{:.3f},{:.3f} {:.3f},{:.3f} {:.3f},{:.3f}",
                                                     chunks.xy[0], chunks.xy[1], chunks.xy[2],
@@ -370,8 +334,8 @@ bool agrees(const ColourSpaces& spaces, const std::string& rule_space, const Sta
       const auto a = spaces.primaries_d65(rule_space), b = spaces.primaries_d65(meta.space);
       return a && b && chromaticity_difference(a->data(), b->data()) <= kChromaticityTolerance;
     }
-    const std::string id = spaces.interop_id(rule_space);
-    return !id.empty() && id == spaces.interop_id(meta.space);
+    const std::string& id = spaces.facts(rule_space).interop_id;
+    return !id.empty() && id == spaces.facts(meta.space).interop_id;
   } catch (const Error&) {
     return false;
   }
@@ -489,7 +453,7 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
   // disagrees is named in a warning); the config's file rules; the format's convention; the
   // config's role for the data type.
   if (!settings.colorspace.empty()) {
-    in.colorspace = spaces.resolve(settings.colorspace);
+    in.colorspace = settings.colorspace;  // resolved by the planner (pipeline/job_plan.h)
     in.colorspace_reason = "--colorspace";
   } else {
     const auto [ruled, rule] = spaces.file_rule(file);
@@ -511,7 +475,7 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
                                                       : role.first;
     const Stated meta = metadata_space(file, spec, spaces, fallback, in.warnings);
     const std::string rule_reason = "the config's file rule '" + rule + "'";
-    if (meta && !ruled.empty() && spaces.is_data(ruled)) {
+    if (meta && !ruled.empty() && spaces.facts(ruled).data) {
       // Tools tag data maps sRGB as readily as colour: the rule is the studio's word.
       in.colorspace = ruled;
       in.colorspace_reason = rule_reason + " (a data space; the file's own tag, '" + meta.space +
@@ -544,13 +508,15 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
           role.second;
     }
   }
+  // Everything known of the space decided, passed on whole.
+  in.facts = &spaces.facts(in.colorspace);
   // Data or colour: the words of the name and its folders, then a data colour space.
   in.name = map_kind_by_name(file, name_words_in_force(settings.data_names, settings.colour_names));
   resolve_by_channels(in.name, in.channels.grey());
   for (const std::string& w : in.name.warnings) in.warnings.push_back(where + w);
   if (in.name.kind == MapKind::data)
     in.data_reason = "data by its " + in.name.reason;
-  else if (spaces.is_data(in.colorspace))
+  else if (in.facts->data)
     in.data_reason = "colour space '" + in.colorspace + "' is data (" + in.colorspace_reason + ")";
   return in;
 }
@@ -564,7 +530,7 @@ InputInterpretation interpret_input(const std::string& file, const OIIO::ImageSp
                                     const Settings& settings, const ColourSpaces& spaces) {
   InputInterpretation in = interpret_colour(file, spec, settings, spaces);
   const std::string where = "'" + clip(file, 200) + "': ";
-  if (spaces.is_data(in.colorspace))
+  if (in.facts->data)
     in.warnings.push_back(where + data_space_warning(in.colorspace));
   else if (!in.data_reason.empty())
     in.warnings.push_back(where + "non-colour data by its " + in.name.reason +
@@ -587,9 +553,10 @@ void decide_light_or_surface(InputInterpretation& in, const std::string& file,
   clues.width = spec.width;
   clues.height = spec.height;
   clues.recorded_mode = spec.get_string_attribute("spectralize:mode");
-  const ColourTransform to_xyz = spaces.to_xyz(in.colorspace);
-  clues.can_exceed_white = clues.float_data || to_xyz(1, 1, 1).Y > kLightAboveY;
-  clues.brightest = [&] { return brightest_pixel(file, in.channels, to_xyz, kClearlyLightY); };
+  clues.can_exceed_white = clues.float_data || in.facts->white.Y > kLightAboveY;
+  clues.brightest = [&] {
+    return brightest_pixel(file, in.channels, spaces.to_xyz(in.colorspace), kClearlyLightY);
+  };
   const ModeDecision d = decide_mode(clues);
   in.mode = d.mode;
   in.mode_reason = d.reason;
@@ -603,7 +570,7 @@ Settings resolved_settings(const Settings& settings, const InputInterpretation& 
   s.colorspace = in.colorspace;
   s.preview_colorspace = settings.preview_colorspace.empty()
                              ? default_colour_space(spaces, true).first
-                             : spaces.resolve(settings.preview_colorspace);
+                             : settings.preview_colorspace;
   return s;
 }
 

@@ -29,8 +29,9 @@ struct ChannelRoles {
 struct InputInterpretation {
   ChannelRoles channels;
   std::string colorspace, colorspace_reason;
-  NameVerdict name;         // what the words of its name and folders say
-  std::string data_reason;  // non-empty: non-colour data (by name or colour space)
+  const ColourSpaceFacts* facts = nullptr;  // of `colorspace`: what the converters and tags use
+  NameVerdict name;                         // what the words of its name and folders say
+  std::string data_reason;                  // non-empty: non-colour data (by name or colour space)
   Mode mode = Mode::emission;
   std::string mode_reason;            // (interpret_input only)
   std::vector<std::string> warnings;  // for people, each naming the file

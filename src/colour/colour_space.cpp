@@ -182,10 +182,6 @@ std::string ColourSpaces::ocio_version() {
   return OCIO::GetVersion();
 }
 
-bool ColourSpaces::has_builtin_configs() {
-  return ocio_compat::kBuiltinConfigs;
-}
-
 ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
   // OCIO logs its own opinions of a config (inactive spaces, deprecated keys) on stderr;
   // spectralize reports what matters to the job itself, naming the config.
@@ -497,120 +493,9 @@ std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& p
   return {cs ? cs->getName() : space, config->getFileRules()->getName(index)};
 }
 
-namespace {
-
-// Known primaries and whites (red, green, blue, white as CIE xy): the standard's own (what an
-// EXR chromaticities attribute says) and as a D65-referred config sees them after its Bradford
-// adaptation to D65 (measured through OCIO's built-in ACES transforms).
-struct KnownSpace {
-  const char* primaries;  // the interop ID's primaries part: "rec709", "ap1", ...
-  std::array<float, 8> native, adapted;
-};
-constexpr float kD65x = 0.3127f, kD65y = 0.3290f;
-// clang-format off
-const KnownSpace kKnown[] = {
-    {"rec709",
-     {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y},
-     {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"rec2020",
-     {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y},
-     {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, kD65x, kD65y}},
-    {"p3d65",
-     {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y},
-     {0.680f, 0.320f, 0.265f, 0.690f, 0.150f, 0.060f, kD65x, kD65y}},
-    {"adobergb",
-     {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y},
-     {0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, kD65x, kD65y}},
-    {"ap1",
-     {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f},
-     {0.713196f, 0.292689f, 0.159509f, 0.838789f, 0.128673f, 0.043896f, kD65x, kD65y}},
-    {"ap0",
-     {0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f},
-     {0.734855f, 0.264225f, -0.006171f, 1.011315f, 0.015968f, -0.064236f, kD65x, kD65y}},
-    {"ciexyzd65",
-     {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f},
-     {1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1 / 3.0f, 1 / 3.0f}},
-};
-// clang-format on
-
-// The interop IDs of the Color Interop Forum that a measurement can tell apart: a transfer
-// that is linear, the sRGB curve or a pure gamma, on known primaries, scene- or
-// display-referred.
-const char* const kInteropIds[] = {
-    "lin_rec709_scene",   "lin_rec2020_scene",  "lin_p3d65_scene",      "lin_adobergb_scene",
-    "lin_ap1_scene",      "lin_ap0_scene",      "lin_ciexyzd65_scene",  "srgb_rec709_scene",
-    "g22_rec709_scene",   "g18_rec709_scene",   "srgb_ap1_scene",       "g22_ap1_scene",
-    "srgb_p3d65_scene",   "g22_adobergb_scene", "srgb_rec709_display",  "g24_rec709_display",
-    "g22_rec709_display", "srgb_p3d65_display", "g22_adobergb_display", "g26_p3d65_display"};
-
-// Bradford's cone response matrix (Lam 1985), and its inverse.
-constexpr double kBradford[3][3] = {
-    {0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}};
-constexpr double kBradfordInverse[3][3] = {{0.986992905, -0.147054256, 0.159962652},
-                                           {0.43230527, 0.518360272, 0.049291228},
-                                           {-0.008528665, 0.040042822, 0.968486696}};
-
-using Vec3 = std::array<double, 3>;
-
-Vec3 mul(const double m[3][3], const Vec3& v) {
-  return {m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
-          m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-          m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2]};
-}
-
-Vec3 xyz_of_xy(double x, double y) {
-  return {x / y, 1.0, (1 - x - y) / y};
-}
-
-}  // namespace
-
-std::array<float, 8> adapt_chromaticities_to_d65(const float* xy) {
-  // RGB -> XYZ of the file's primaries, scaled so that RGB 1 is its white.
-  Vec3 p[3];
-  for (int i = 0; i < 3; ++i) p[i] = xyz_of_xy(xy[2 * i], xy[2 * i + 1]);
-  const Vec3 w = xyz_of_xy(xy[6], xy[7]);
-  const double det = p[0][0] * (p[1][1] * p[2][2] - p[2][1] * p[1][2]) -
-                     p[1][0] * (p[0][1] * p[2][2] - p[2][1] * p[0][2]) +
-                     p[2][0] * (p[0][1] * p[1][2] - p[1][1] * p[0][2]);
-  std::array<float, 8> out{};
-  if (!(std::abs(det) > 1e-12) || !(xy[7] > 0) || !(xy[1] > 0) || !(xy[3] > 0) || !(xy[5] != 0)) {
-    for (int i = 0; i < 8; ++i) out[i] = xy[i];
-    return out;
-  }
-  // Scales s with sum_i s_i p_i = w (Cramer's rule).
-  auto det3 = [](const Vec3& a, const Vec3& b, const Vec3& c) {
-    return a[0] * (b[1] * c[2] - c[1] * b[2]) - b[0] * (a[1] * c[2] - c[1] * a[2]) +
-           c[0] * (a[1] * b[2] - b[1] * a[2]);
-  };
-  const double s[3] = {det3(w, p[1], p[2]) / det, det3(p[0], w, p[2]) / det,
-                       det3(p[0], p[1], w) / det};
-  // Von Kries in Bradford's cone space, from the white to D65.
-  const Vec3 from = mul(kBradford, w), to = mul(kBradford, xyz_of_xy(kD65x, kD65y));
-  for (int i = 0; i < 3; ++i) {
-    Vec3 c = mul(kBradford, {p[i][0] * s[i], p[i][1] * s[i], p[i][2] * s[i]});
-    for (int k = 0; k < 3; ++k) c[k] *= to[k] / from[k];
-    const Vec3 a = mul(kBradfordInverse, c);
-    const double sum = a[0] + a[1] + a[2];
-    out[2 * i] = static_cast<float>(a[0] / sum);
-    out[2 * i + 1] = static_cast<float>(a[1] / sum);
-  }
-  out[6] = kD65x;
-  out[7] = kD65y;
-  return out;
-}
-
-double chromaticity_difference(const float* a, const float* b) {
-  double d = 0;
-  for (int i = 0; i < 8; ++i) d = std::max(d, std::abs(static_cast<double>(a[i]) - b[i]));
-  return d;
-}
-
-std::string interop_id_of_chromaticities(const float* xy) {
-  const std::array<float, 8> adapted = adapt_chromaticities_to_d65(xy);
-  for (const KnownSpace& k : kKnown)
-    if (chromaticity_difference(k.adapted.data(), adapted.data()) <= kChromaticityTolerance)
-      return std::string("lin_") + k.primaries + "_scene";
-  return "";
+NamedSpace ColourSpaces::named(std::string_view given) const {
+  if (given.empty()) return {};
+  return {std::string(given), &facts(given)};
 }
 
 const ColourSpaceFacts& ColourSpaces::facts(std::string_view space) const {
@@ -639,16 +524,25 @@ ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
     return f;
   }
   const ColourTransform t = to_xyz(space);
-  // Linear maps scale: f(k c) = k f(c), for two scales on a colour of distinct components.
-  const Xyz a = t(0.8, 0.5, 0.2), b = t(0.4, 0.25, 0.1), c = t(0.08, 0.05, 0.02), o = t(0, 0, 0);
-  auto close = [](const Xyz& x, const Xyz& y) {
-    return (x - y).max_abs() <= 1e-5 * std::max(1e-3, y.max_abs());
-  };
-  f.linear = o.max_abs() <= 1e-7 && close(b, 0.5 * a) && close(c, 0.1 * a);
+  f.white = t(1, 1, 1);
+  // The unit colours as columns: the matrix of a linear space, and the primaries' directions
+  // of any space whose curve keeps 0 and 1 (sRGB, a gamma).
+  const Mat3 m = from_columns(t(1, 0, 0), t(0, 1, 0), t(0, 0, 1));
+  const bool finite = std::all_of(m.begin(), m.end(), [](double v) { return std::isfinite(v); });
+  if (finite && std::abs(det(m)) > 1e-9) f.rgb_to_xyz = m;
+  // Linear: the conversion is that matrix, inside and outside [0, 1], negative and above 1 (a
+  // curve, a clamp or an offset shows).
+  if (f.rgb_to_xyz && t(0, 0, 0).max_abs() <= 1e-7) {
+    const Xyz probes[] = {{0.8, 0.5, 0.2},     {0.08, 0.05, 0.02}, {0.2, 0.5, 0.7},
+                          {0.01, 0.003, 0.02}, {-0.1, 0.4, 0.2},   {1.5, 2.5, 0.3}};
+    f.linear = std::all_of(std::begin(probes), std::end(probes), [&](const Xyz& c) {
+      return relative_error(t(c.X, c.Y, c.Z), mul(*f.rgb_to_xyz, c)) <= 1e-5;
+    });
+  }
   // Primaries along their directions from mid grey: t(1, g, g) - t(g, g, g) is the red primary
   // times c(1) - c(g) for any per-channel curve c (also a log curve, where c(0) is not 0).
-  const Xyz mid = t(0.5, 0.5, 0.5), white = t(1, 1, 1);
-  const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid, white};
+  const Xyz mid = t(0.5, 0.5, 0.5);
+  const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid, f.white};
   std::array<float, 8> xy{};
   bool primaries = true;
   for (int k = 0; k < 4; ++k) {
@@ -661,53 +555,33 @@ ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
   }
   if (!primaries) return f;
   f.primaries_d65 = xy;
-  const KnownSpace* known = nullptr;
-  for (const KnownSpace& k : kKnown)
-    if (!known && chromaticity_difference(k.adapted.data(), xy.data()) <= kChromaticityTolerance)
-      known = &k;
+  const KnownPrimaries* known = known_primaries_of(xy.data());
   // A known space is tagged with its standard's own primaries and white, as files expect.
   f.chromaticities = known ? known->native : xy;
-  // The transfer: greys keep the white's chromaticity, so Y(v) / Y(1) is the curve at v.
-  if (std::abs(white.Y) > 1e-12) {
-    auto matches = [&](auto&& curve) {
+  // The encoding: linear as measured above; else greys keep the white's chromaticity, so
+  // Y(v) / Y(1) is the curve at v.
+  const KnownEncoding* encoding = nullptr;
+  if (f.linear) {
+    encoding = &known_encodings().front();
+  } else if (std::abs(f.white.Y) > 1e-12) {
+    for (const KnownEncoding& e : known_encodings().subspan(1)) {
+      bool same = true;
       for (double v : {0.01, 0.03, 0.1, 0.3, 0.5, 0.8}) {
-        const double want = curve(v), got = t(v, v, v).Y / white.Y;
+        const double want = e(v), got = t(v, v, v).Y / f.white.Y;
         // 563/256 and 2.2 differ by 4e-3 at 0.01.
-        if (!(std::abs(got - want) <= 1e-3 * want + 1e-6)) return false;
+        same = same && std::abs(got - want) <= 1e-3 * want + 1e-6;
       }
-      return true;
-    };
-    if (matches([](double v) { return v; })) {
-      f.transfer = IccTransfer{IccTransfer::linear, 1};
-    } else if (matches([](double v) {
-                 return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-               })) {
-      f.transfer = IccTransfer{IccTransfer::srgb, 2.4};
-    } else {
-      for (double g : {563.0 / 256, 2.2, 2.4, 1.8, 2.6})
-        if (!f.transfer && matches([g](double v) { return std::pow(v, g); }))
-          f.transfer = IccTransfer{IccTransfer::gamma, g};
+      if (same) {
+        encoding = &e;
+        break;
+      }
     }
   }
-  if (f.interop_id_from_config || !known) return f;
-  // Measured: the curve, recognised by its value at 0.5 (linear 0.5, the sRGB curve 0.2140, a
-  // gamma of 2.2 or Adobe's 563/256 0.2176, 1.8 0.2872, 2.4 0.1895, 2.6 0.1649), on known
-  // primaries, scene- or display-referred, when the Color Interop Forum names that.
-  std::string curve;
-  if (f.linear) {
-    curve = "lin";
-  } else if (std::abs(white.Y) > 1e-12) {
-    const double v = mid.Y / white.Y;
-    const std::pair<const char*, double> curves[] = {
-        {"srgb", 0.21404}, {"g22", 0.21764}, {"g18", 0.28717}, {"g24", 0.18946}, {"g26", 0.16494}};
-    for (const auto& [name, at_half] : curves)
-      if (std::abs(v - at_half) < 1e-3) curve = name;
-  }
-  if (curve.empty()) return f;
-  const std::string id =
-      curve + "_" + known->primaries + (f.display_referred ? "_display" : "_scene");
-  for (const char* k : kInteropIds)
-    if (id == k) f.interop_id = id;
+  if (encoding) f.transfer = encoding->transfer;
+  // Measured: the curve on known primaries, scene- or display-referred, when the Color Interop
+  // Forum names that.
+  if (!f.interop_id_from_config && known && encoding)
+    f.interop_id = known_interop_id(encoding->id, known->id, f.display_referred);
   return f;
 }
 

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "colour/icc_profile.h"
+#include "colour/known_spaces.h"
+#include "core/colorimetry/mat3.h"
 #include "spectralize/core/xyz.h"
 
 namespace spectralize {
@@ -45,7 +47,10 @@ struct ColourSpaceFacts {
   std::string encoding;                 // the config's: "scene-linear", "sdr-video", "log", ...
   bool data = false;                    // not colour: the config's isdata, a "data" encoding or ID
   bool display_referred = false;        // defined by the config's display reference space
-  bool linear = false;                  // its conversion to XYZ is linear (measured)
+  // Measured through one OCIO processor to CIE XYZ (D65):
+  Xyz white;                       // what RGB (1, 1, 1) is
+  std::optional<Mat3> rgb_to_xyz;  // the unit colours as columns, when finite and invertible
+  bool linear = false;  // the conversion is rgb_to_xyz, inside [0, 1] and out (the one test)
   // Red, green, blue and white as CIE xy, as XYZ-D65 sees them (the white adapted to D65):
   // measured along each primary's direction, so any per-channel curve (sRGB, log) keeps them.
   std::optional<std::array<float, 8>> primaries_d65;
@@ -53,6 +58,18 @@ struct ColourSpaceFacts {
   // (ACEScg: the ACES white), else primaries_d65.
   std::optional<std::array<float, 8>> chromaticities;
   std::optional<IccTransfer> transfer;  // linear, the sRGB curve or a pure gamma, if one
+};
+
+/// A colour space a user named (an option or a keyword), resolved once: the name as given and
+/// everything known of the space. The planner makes it (pipeline/job_plan.h); the classifier,
+/// the converters and the writers take it whole.
+struct NamedSpace {
+  std::string given;                        // as typed ("": none given)
+  const ColourSpaceFacts* facts = nullptr;  // owned by the ColourSpaces that resolved it
+  /// The canonical name. Cost: O(1).
+  const std::string& name() const { return facts->name; }
+  /// True when a space was named. Cost: O(1).
+  explicit operator bool() const { return facts != nullptr; }
 };
 
 class ColourSpaces {
@@ -66,8 +83,6 @@ class ColourSpaces {
 
   /// The OpenColorIO in use ("2.5.1"). Cost: O(1).
   static std::string ocio_version();
-  /// True when this OpenColorIO has built-in configs (ocio://..., OCIO 2.2 and later). Cost: O(1).
-  static bool has_builtin_configs();
 
   /// Where the config came from, for reports: "shipped", "$OCIO=path" or the path (or URI).
   /// Cost: O(1).
@@ -96,6 +111,9 @@ class ColourSpaces {
   /// The space the config's file rules give `path` and the rule's name, or {"", ""} when only
   /// the default rule matches. Cost: O(rules).
   std::pair<std::string, std::string> file_rule(const std::string& path) const;
+  /// `given` (a name, alias or role) resolved with what is known of it; an empty NamedSpace
+  /// for "". Throws Error listing the valid names. Cost: facts().
+  NamedSpace named(std::string_view given) const;
   /// Everything known of a space (by name, alias or role), gathered the first time any copy of
   /// this ColourSpaces asks; the reference stays valid while one does. Throws Error for an
   /// unknown space. Cost: one OCIO processor and ~20 colours the first time, O(log spaces) after.
@@ -158,23 +176,6 @@ class ColourSpaces {
   std::string file_;     // the config file ("": the shipped one or a built-in)
   std::string builtin_;  // a built-in config's resolved URI ("": a file or the shipped one)
 };
-
-/// Chromaticities that are the same primaries: the largest difference in CIE xy of any of the
-/// eight numbers, after adapting both whites to D65 (docs/DESIGN.md §9).
-inline constexpr double kChromaticityTolerance = 2e-3;
-
-/// `xy` (red, green, blue, white as CIE xy) with the white Bradford-adapted to D65 and the
-/// primaries with it: the primaries as a D65-referred config sees them (Rec.709 primaries
-/// adapted to D50, as Photoshop writes them, give Rec.709 back). Cost: O(1).
-std::array<float, 8> adapt_chromaticities_to_d65(const float* xy);
-
-/// The largest |a[i] - b[i]| of two sets of eight chromaticities. Cost: O(1).
-double chromaticity_difference(const float* a, const float* b);
-
-/// The linear interop ID of a file's chromaticities (red, green, blue, white xy) when, adapted
-/// to D65, they are a known standard's (Rec.709, Rec.2020, P3-D65, Adobe RGB, AP1, AP0, XYZ)
-/// within kChromaticityTolerance, else "". Cost: O(1).
-std::string interop_id_of_chromaticities(const float* xy);
 
 /// Name of the shipped default linear space (scene_linear of the shipped config). Cost: O(1).
 inline constexpr std::string_view kDefaultColourSpace = "Linear Rec.709 (sRGB)";

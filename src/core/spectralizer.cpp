@@ -122,7 +122,7 @@ Spectralizer::Spectralizer(SpectralizerSettings settings)
   const std::vector<double> wavelengths = wavelengths_of(settings_.grid);
   ModelContext context{basis_columns_, wavelengths, settings_.grid.step(), settings_.filter,
                        settings_.curvature_nm};
-  model_ = find_model(settings_.model).make(context);
+  model_ = settings_.model.info().make(context);
   // Eq. 6: the white of the input (D65) becomes the white of the spectra: the reference
   // illuminant's perfect reflector, or, for emission with an illuminant basis, that
   // illuminant's light ("solved like a reflectance"; with D65 the change is ~1e-4, the

@@ -5,8 +5,8 @@
 #include <limits>
 
 #include "baseline/sigmoid_spectrum.h"
-#include "core/bounded_projection.h"
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
+#include "core/solvers/bounded_projection.h"
 
 namespace spectralize::figures {
 

@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/xyz.h"
 
 namespace spectralize::figures {

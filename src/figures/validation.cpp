@@ -5,9 +5,9 @@
 #include <cmath>
 #include <memory>
 
-#include "core/colour_difference.h"
-#include "core/exemplar_model.h"
-#include "core/spectral_table.h"
+#include "core/colorimetry/colour_difference.h"
+#include "core/models/exemplar_model.h"
+#include "core/tables/spectral_table.h"
 #include "figures/reference_rows.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/error.h"
@@ -299,7 +299,8 @@ class CrossValidatedExemplar final : public Reconstruction {
   std::vector<std::unique_ptr<ExemplarModel>> models_;  // per validation set: the others' exemplars
 };
 
-SpectralizerSettings model_settings(const std::string& model, const EdgeFilter& filter, Mode mode) {
+SpectralizerSettings model_settings(const RegisteredModel& model, const EdgeFilter& filter,
+                                    Mode mode) {
   SpectralizerSettings settings;
   settings.model = model;
   settings.filter = filter;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,9 @@ struct IngestPlan {
 /// be written, an unreadable list; ConfigError for a config that does not load. Cost: a
 /// directory walk and a few stats per file.
 IngestPlan plan_ingest(const IngestRequest& request);
+/// As above with the job already planned for request.settings (a front end that checked its
+/// options by planning: the batch is planned once). Cost: as above.
+IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job);
 
 /// Counts of a batch, for the summary and the manifest's last record.
 struct IngestSummary {

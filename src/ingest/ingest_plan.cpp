@@ -367,6 +367,10 @@ std::string batch_settings(const Settings& s) {
 }  // namespace
 
 IngestPlan plan_ingest(const IngestRequest& request) {
+  return plan_ingest(request, std::nullopt);
+}
+
+IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job) {
   IngestPlan plan;
   plan.request = request;
   const std::string& dest = request.destination;
@@ -434,7 +438,7 @@ IngestPlan plan_ingest(const IngestRequest& request) {
   for (const Found& f : found) files.read(f.input, "the input");
   if (!request.inputs_from.empty()) files.read(request.inputs_from, "the --inputs-from list");
   {
-    plan.job = plan_to_spectral(request.settings, "", request.names);
+    plan.job = job ? std::move(*job) : plan_to_spectral(request.settings, "", request.names);
     const ColourSpaces& spaces = plan.job.colour_spaces();
     plan.config_identity = spaces.content_identity();
     // A built-in config (ocio://...) is no file: its content enters the identity above.

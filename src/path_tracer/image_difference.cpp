@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize::path_tracer {

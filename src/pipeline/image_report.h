@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/job_plan.h"
 #include "pipeline/spectral_converter.h"
 #include "settings/settings.h"

@@ -43,23 +43,46 @@ std::shared_ptr<const ColourSpaces> load_config(const Settings& s, const OptionN
   }
 }
 
-JobPlan plan_of(Settings s, std::shared_ptr<const ColourSpaces> spaces, const OptionNames& names,
-                bool to_rgb) {
+// The one place a colour-space name given by the user is resolved: into the plan's records,
+// the settings keeping the canonical names. Every space named by an option is checked before
+// any work, the same way.
+void resolve_colour_spaces(JobPlan& plan) {
+  Settings& s = plan.settings;
+  const ColourSpaces& spaces = *plan.spaces;
+  plan.colorspace =
+      with_context(plan.names("colorspace"), [&] { return spaces.named(s.colorspace); });
+  plan.preview_colorspace = with_context(plan.names("preview_colorspace"),
+                                         [&] { return spaces.named(s.preview_colorspace); });
+  if (plan.colorspace) s.colorspace = plan.colorspace.name();
+  if (plan.preview_colorspace) s.preview_colorspace = plan.preview_colorspace.name();
+}
+
+// A plan of the checked settings with the config loaded and the named spaces resolved.
+JobPlan plan_of(Settings s, const OptionNames& names, bool to_rgb) {
   JobPlan plan;
+  plan.spaces = load_config(s, names);
   plan.settings = std::move(s);
   plan.names = names;
-  plan.spaces = std::move(spaces);
   plan.to_rgb = to_rgb;
+  resolve_colour_spaces(plan);
   return plan;
 }
 
-void resolve_colour_space(Settings& s, const ColourSpaces& spaces, const OptionNames& names) {
-  if (!s.colorspace.empty())
-    s.colorspace = with_context(names("colorspace"), [&] { return spaces.resolve(s.colorspace); });
-  // Every colour space named by an option is checked before any work, the same way.
-  if (!s.preview_colorspace.empty())
-    s.preview_colorspace = with_context(names("preview_colorspace"),
-                                        [&] { return spaces.resolve(s.preview_colorspace); });
+// A setting the user gave that cannot shape what the job makes (`what`) is a mistake to say,
+// not to ignore: every front end (the commands, Python, recipes) refuses it the same way,
+// before any work. `decided`: the job's mode, or none when each input decides its own.
+void refuse_ineffective(const JobPlan& plan, std::optional<Mode> decided, const std::string& what) {
+  if (const SettingSpec* spec = ineffective_setting(plan.settings, decided))
+    throw Error(plan.names(std::string(spec->key)) + " does not shape " + what + "; leave it out");
+}
+
+std::string of_model(const Settings& s) {
+  return " of the " + std::string(s.spectral.model.name()) + " model";
+}
+
+// "an emission", "a reflectance".
+std::string a_mode(Mode mode) {
+  return mode == Mode::emission ? "an emission" : "a reflectance";
 }
 
 }  // namespace
@@ -79,9 +102,16 @@ JobPlan plan_to_spectral(Settings s, const std::string& output, const OptionName
                   ": a spectral OpenEXR stores half or float samples");
     check_output(output, spectral_request(s), names.prefix);
   }
-  auto spaces = load_config(s, names);
-  resolve_colour_space(s, *spaces, names);
-  return plan_of(std::move(s), std::move(spaces), names, false);
+  JobPlan plan = plan_of(std::move(s), names, false);
+  const Settings& p = plan.settings;
+  if (p.mode == ModeChoice::automatic)
+    refuse_ineffective(plan, std::nullopt,
+                       "the spectra" + of_model(p) + ", a light's or a surface's");
+  else
+    refuse_ineffective(plan, p.mode == ModeChoice::emission ? Mode::emission : Mode::reflectance,
+                       std::string(p.mode == ModeChoice::emission ? "emission" : "reflectance") +
+                           " spectra" + of_model(p));
+  return plan;
 }
 
 JobPlan plan_to_rgb(Settings s, const std::string& output, bool format_given,
@@ -111,19 +141,23 @@ JobPlan plan_to_rgb(Settings s, const std::string& output, bool format_given,
     r.tile_height = s.tile_height;
     check_output(output, r, names.prefix);
   }
-  auto loaded = load_config(s, names);
-  const ColourSpaces& spaces = *loaded;
-  resolve_colour_space(s, spaces, names);
-  if (!s.display.empty() && !s.colorspace.empty())
+  JobPlan plan = plan_of(std::move(s), names, true);
+  Settings& p = plan.settings;
+  const ColourSpaces& spaces = plan.colour_spaces();
+  if (!p.display.empty() && !p.colorspace.empty())
     throw Error("give " + names("colorspace") + " or " + names("display") + ", not both");
-  if (!s.view.empty() && s.display.empty())
+  if (!p.view.empty() && p.display.empty())
     throw Error(names("view") + " needs " + names("display"));
-  if (!s.display.empty())
-    with_context(names("display"), [&] { return spaces.display_from_xyz(s.display, s.view); });
+  if (!p.display.empty())
+    with_context(names("display"), [&] { return spaces.display_from_xyz(p.display, p.view); });
   // Integer samples are display-referred: an encoded space by default; float ones linear.
-  if (s.colorspace.empty() && s.display.empty())
-    s.colorspace = default_colour_space(spaces, s.integer_bits == 0).first;
-  return plan_of(std::move(s), std::move(loaded), names, true);
+  if (p.colorspace.empty() && p.display.empty()) {
+    p.colorspace = default_colour_space(spaces, p.integer_bits == 0).first;
+    plan.colorspace = spaces.named(p.colorspace);
+  }
+  // The mode is the spectral file's own.
+  refuse_ineffective(plan, std::nullopt, "RGB from spectra");
+  return plan;
 }
 
 Mode mode_of_subject(ModeChoice asked, ColourSubject subject) {
@@ -134,9 +168,10 @@ Mode mode_of_subject(ModeChoice asked, ColourSubject subject) {
   return subject == ColourSubject::table ? Mode::reflectance : Mode::emission;
 }
 
-JobPlan plan_colours(Settings s, ColourSubject subject, const OptionNames& names) {
-  auto spaces = load_config(s, names);
-  resolve_colour_space(s, *spaces, names);
+JobPlan plan_colours(Settings settings, ColourSubject subject, const OptionNames& names) {
+  JobPlan plan = plan_of(std::move(settings), names, subject == ColourSubject::spectra);
+  Settings& s = plan.settings;
+  const ColourSpaces& spaces = plan.colour_spaces();
   const bool display = subject == ColourSubject::spectra && !s.display.empty();
   if (subject == ColourSubject::spectra) {
     if (!s.display.empty() && !s.colorspace.empty())
@@ -144,16 +179,22 @@ JobPlan plan_colours(Settings s, ColourSubject subject, const OptionNames& names
     if (!s.view.empty() && s.display.empty())
       throw Error(names("view") + " needs " + names("display"));
   }
-  if (s.colorspace.empty() && !display) s.colorspace = default_colour_space(*spaces, true).first;
+  if (s.colorspace.empty() && !display) {
+    s.colorspace = default_colour_space(spaces, true).first;
+    plan.colorspace = spaces.named(s.colorspace);
+  }
   s.spectral.mode = mode_of_subject(s.mode, subject);
   if (subject == ColourSubject::table)
     s.mode = s.spectral.mode == Mode::emission ? ModeChoice::emission : ModeChoice::reflectance;
   // As for an image (classify/input_interpretation.h): a data space's values are not a colour.
-  std::vector<std::string> warnings;
-  if (subject == ColourSubject::colours && spaces->is_data(s.colorspace))
-    warnings.push_back(data_space_warning(s.colorspace));
-  JobPlan plan = plan_of(std::move(s), std::move(spaces), names, subject == ColourSubject::spectra);
-  plan.warnings = std::move(warnings);
+  if (subject == ColourSubject::colours && plan.colorspace.facts->data)
+    plan.warnings.push_back(data_space_warning(s.colorspace));
+  refuse_ineffective(
+      plan, s.spectral.mode,
+      subject == ColourSubject::table
+          ? a_mode(s.spectral.mode) + " table" + of_model(s)
+          : std::string(s.spectral.mode == Mode::emission ? "emission" : "reflectance") +
+                " spectra" + of_model(s));
   return plan;
 }
 

@@ -42,6 +42,9 @@ struct JobPlan {
   OptionNames names{"--", "-o"};               // the caller's spellings, for messages
   std::shared_ptr<const ColourSpaces> spaces;  // the config, parsed once per job (or batch)
   bool to_rgb = false;                         // the direction
+  // The spaces the options name, resolved once (settings hold their canonical names); for
+  // colours without an image, the colour space as defaulted too.
+  NamedSpace colorspace, preview_colorspace;
   std::vector<std::string> warnings;  // said while planning, for the caller to show (each use)
   // After planned_input:
   std::string input;                   // the file decided ("" before)

@@ -9,29 +9,18 @@
 #include <filesystem>
 
 #include "classify/input_interpretation.h"
-#include "core/renderer_frame.h"
-#include "core/table_file.h"
-#include "imagefile/safe_output.h"
+#include "core/colorimetry/renderer_frame.h"
+#include "core/tables/table_file.h"
 #include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
 
 namespace spectralize {
 
-std::optional<Mat3> primaries_matrix(const ColourSpaces& spaces, std::string_view space) {
-  if (spaces.is_data(space)) return std::nullopt;
-  const ColourTransform t = spaces.to_xyz(space);
-  const Mat3 m = from_columns(t(1, 0, 0), t(0, 1, 0), t(0, 0, 1));
-  for (double v : m)
-    if (!std::isfinite(v)) return std::nullopt;
-  if (!(std::abs(det(m)) > 1e-9)) return std::nullopt;
-  return m;
-}
-
 Mat3 table_frame(const ColourSpaces& spaces, std::string_view space) {
   std::optional<Mat3> m;
   try {
-    m = primaries_matrix(spaces, space);
+    m = spaces.facts(space).rgb_to_xyz;
   } catch (const Error&) {
   }
   if (!m || !(relative_error(mul(*m, Xyz{1, 1, 1}), kWhiteD65) <= 1e-3)) return kRec709Frame;
@@ -56,16 +45,6 @@ std::array<double, 2> chromaticity_of_column(const Mat3& m, int c) {
   return {m[c] / sum, m[3 + c] / sum};
 }
 
-bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& m) {
-  const ColourTransform t = spaces.to_xyz(space);
-  // Inside and outside [0, 1], negative and above 1: a curve, a clamp or an offset shows.
-  const Xyz probes[] = {{0.2, 0.5, 0.7}, {0.01, 0.003, 0.02}, {-0.1, 0.4, 0.2}, {1.5, 2.5, 0.3}};
-  if (t(0, 0, 0).max_abs() > 1e-7) return false;
-  for (const Xyz& c : probes)
-    if (!(relative_error(t(c.X, c.Y, c.Z), mul(m, c)) <= 1e-5)) return false;
-  return true;
-}
-
 JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -74,20 +53,16 @@ JobPlan plan_table(Settings settings, const std::string& output, const OptionNam
   JobPlan plan = plan_colours(std::move(settings), ColourSubject::table, names);
   const Settings& s = plan.settings;
   const ColourSpaces& spaces = plan.colour_spaces();
-  const std::optional<Mat3> m = primaries_matrix(spaces, s.colorspace);
+  const ColourSpaceFacts& facts = *plan.colorspace.facts;
+  const std::optional<Mat3>& m = facts.rgb_to_xyz;
   if (!m)
     throw Error(names("colorspace") + " " + quote(s.colorspace) +
                 ": not an RGB colour space (data, or no RGB -> XYZ conversion)");
-  if (!is_matrix_space(spaces, s.colorspace, *m)) {
+  if (!facts.linear) {
     // The linear space of the config with the same primaries and white, to name it (by its
-    // interop ID where the config states them), when it is a matrix space itself.
+    // interop ID where the config states them).
     std::string linear = spaces.linear_twin(s.colorspace);
-    if (!linear.empty() && linear != s.colorspace) {
-      const std::optional<Mat3> other = primaries_matrix(spaces, linear);
-      if (!other || !is_matrix_space(spaces, linear, *other)) linear.clear();
-    } else {
-      linear.clear();
-    }
+    if (linear == s.colorspace) linear.clear();
     throw Error(names("colorspace") + " " + quote(s.colorspace) +
                 ": not linear RGB (its conversion to XYZ is not a 3x3 matrix: a transfer curve "
                 "or log encoding); a table is looked up with linear RGB, so renderers decode and "
@@ -135,7 +110,7 @@ RenderTable make_render_table(const JobPlan& plan, const LogFn& log) {
   const auto start = std::chrono::steady_clock::now();
   const Settings& s = plan.settings;
   const ColourSpaces& spaces = plan.colour_spaces();
-  const std::optional<Mat3> m = primaries_matrix(spaces, s.colorspace);
+  const std::optional<Mat3>& m = spaces.facts(s.colorspace).rgb_to_xyz;
   if (!m) throw Error("colour space " + quote(s.colorspace) + " has no RGB -> XYZ matrix");
   const Spectralizer sp(s.spectral);
   Mat3 frame = *m;
@@ -173,12 +148,6 @@ RenderTable make_render_table(const JobPlan& plan, const LogFn& log) {
     log(1, std::to_string(r.stats.nodes_constructed) +
                " node spectra made exact by construction (the model's solve was not exact)");
   return r;
-}
-
-void write_render_table(const std::string& path, const RenderTable& table) {
-  AtomicOutput out(path, {});
-  out.write(table.bytes);
-  out.commit();
 }
 
 }  // namespace spectralize

@@ -10,29 +10,21 @@
 #include <string_view>
 
 #include "colour/colour_space.h"
-#include "core/exact_table.h"
-#include "core/mat3.h"
-#include "core/spectral_table.h"
+#include "core/colorimetry/mat3.h"
+#include "core/tables/exact_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/job_log.h"
 #include "pipeline/job_plan.h"
 #include "settings/settings.h"
 
 namespace spectralize {
 
-/// The RGB -> CIE XYZ (D65) matrix of the space's primaries: the XYZ of the unit RGB vectors
-/// (0 and 1 survive any transfer function, so encoded spaces have one too); nullopt for data
-/// or a degenerate space. Cost: an OCIO processor.
-std::optional<Mat3> primaries_matrix(const ColourSpaces& spaces, std::string_view space);
-
-/// The frame of a job's exact table (core/spectral_table.h): the space's primaries matrix when
+/// The frame of a job's exact table (core/tables/spectral_table.h): the space's matrix
+/// (ColourSpaceFacts::rgb_to_xyz, the unit colours' XYZ, so encoded spaces have one too) when
 /// its white is D65 (so that RGB (1, 1, 1) is the perfect reflector and the table's dense
 /// cells cover the space's cube, as in a render-time table for it), else Linear Rec.709's.
-/// Cost: an OCIO processor.
+/// Cost: the space's facts (an OCIO processor the first time).
 Mat3 table_frame(const ColourSpaces& spaces, std::string_view space);
-
-/// True when the space's conversion to XYZ is that matrix (linear RGB, no curve), tested on
-/// colours inside and outside [0, 1]. Cost: an OCIO processor.
-bool is_matrix_space(const ColourSpaces& spaces, std::string_view space, const Mat3& matrix);
 
 /// A renderer's matrix (`--rgb-to-xyz`, core/renderer_frame.h) resolved under the settings'
 /// observer. Throws Error for an unknown illuminant. Cost: O(reference table).
@@ -79,9 +71,5 @@ struct RenderTable {
 /// depend only on the settings. Cost: every node's solve (~40 us each at 5 nm; ~20 000 nodes
 /// per reflectance table), a few seconds.
 RenderTable make_render_table(const JobPlan& plan, const LogFn& log);
-
-/// Writes the table to `path` atomically (docs/DESIGN.md §9). Throws Error naming the file.
-/// Cost: O(size).
-void write_render_table(const std::string& path, const RenderTable& table);
 
 }  // namespace spectralize

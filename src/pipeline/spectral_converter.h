@@ -11,7 +11,7 @@
 
 #include "classify/input_interpretation.h"
 #include "colour/colour_space.h"
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/spectral_image_layout.h"
 #include "pipeline/thread_share.h"
 #include "spectralize/core/spectralizer.h"

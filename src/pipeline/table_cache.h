@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 
 namespace spectralize {
 

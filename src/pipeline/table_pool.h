@@ -11,7 +11,7 @@
 #include <mutex>
 #include <string>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/job_log.h"
 #include "settings/settings.h"
 #include "spectralize/core/spectralizer.h"

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 
-#include "core/renderer_frame.h"
+#include "core/colorimetry/renderer_frame.h"
 #include "imagefile/output_formats.h"
 #include "settings/map_kind.h"
 #include "spectralize/core/colorimetry.h"
@@ -137,17 +139,16 @@ std::vector<SettingSpec> make_schema() {
        kAllCommands, true, true,
        [](Settings& v, std::string_view t) { v.spectral.illuminant = Illuminant::get(t).name; },
        [](const Settings& v) { return v.spectral.illuminant; }, is_reflectance});
-  s.push_back(
-      {"model", "--model", "NAME", "model", model_help(), kSpectrumCommands, true, true,
-       [](Settings& v, std::string_view t) { v.spectral.model = std::string(find_model(t).name); },
-       [](const Settings& v) { return v.spectral.model; }, nullptr});
+  s.push_back({"model", "--model", "NAME", "model", model_help(), kSpectrumCommands, true, true,
+               [](Settings& v, std::string_view t) { v.spectral.model = RegisteredModel(t); },
+               [](const Settings& v) { return std::string(v.spectral.model.name()); }, nullptr});
   s.push_back({"filter", "--filter", "K", "filter",
                "Paper model: drop the K partial solutions with the largest density: auto, a "
                "fraction (0.7), a percentage (70%), a count (1000) or none",
                kSpectrumCommands, true, true,
                [](Settings& v, std::string_view t) { v.spectral.filter = EdgeFilter::parse(t); },
                [](const Settings& v) { return v.spectral.filter.to_string(); },
-               [](const Settings& v) { return find_model(v.spectral.model).uses("filter"); }});
+               [](const Settings& v) { return v.spectral.model.uses("filter"); }});
   s.push_back({"curvature", "--curvature", "NM", "curvature",
                "Smooth model: the curvature length tau of its roughness x'^2 + tau^2 x''^2, in "
                "nm (0: slope only)",
@@ -161,7 +162,7 @@ std::vector<SettingSpec> make_schema() {
                  v.spectral.curvature_nm = tau;
                },
                [](const Settings& v) { return shortest(v.spectral.curvature_nm); },
-               [](const Settings& v) { return find_model(v.spectral.model).uses("curvature"); }});
+               [](const Settings& v) { return v.spectral.model.uses("curvature"); }});
   s.push_back(
       {"emission_basis", "--emission-basis", "NAME", "emissionBasis",
        "Emission: flat, or an illuminant E (D65, A, ...): spectrum = E x s with s >= 0, "
@@ -374,9 +375,23 @@ std::string_view to_string(ModeChoice mode) {
 }
 
 const std::vector<SettingSpec>& settings_schema() {
-  static const std::vector<SettingSpec> schema = make_schema();
+  static const std::vector<SettingSpec> schema = [] {
+    std::vector<SettingSpec> s = make_schema();
+    // Settings::given holds one bit per setting.
+    if (s.size() > 64) throw std::logic_error("more than 64 settings: widen Settings::given");
+    return s;
+  }();
   return schema;
 }
+
+namespace {
+
+// The place of `spec` in the schema (its bit in Settings::given).
+std::size_t schema_index(const SettingSpec& spec) {
+  return static_cast<std::size_t>(&spec - settings_schema().data());
+}
+
+}  // namespace
 
 const SettingSpec* find_setting(std::string_view key) {
   for (const SettingSpec& s : settings_schema())
@@ -402,6 +417,30 @@ void apply_setting(Settings& settings, const SettingSpec& spec, std::string_view
   if (text.empty())
     throw Error(std::string(where) + ": an empty value (give a value or leave the option out)");
   with_context(where, [&] { spec.parse(settings, text); });
+  settings.given |= std::uint64_t{1} << schema_index(spec);
+}
+
+bool was_given(const Settings& settings, const SettingSpec& spec) {
+  return (settings.given >> schema_index(spec)) & 1;
+}
+
+void set_aside(Settings& settings, const SettingSpec& spec) {
+  settings.given &= ~(std::uint64_t{1} << schema_index(spec));
+}
+
+const SettingSpec* ineffective_setting(const Settings& settings, std::optional<Mode> decided) {
+  for (const SettingSpec& spec : settings_schema()) {
+    if (!was_given(settings, spec) || !spec.relevant) continue;
+    bool shapes = false;
+    for (Mode mode : {Mode::emission, Mode::reflectance}) {
+      if (decided && mode != *decided) continue;
+      Settings s = settings;
+      s.spectral.mode = mode;
+      shapes = shapes || spec.matters(s);
+    }
+    if (!shapes) return &spec;
+  }
+  return nullptr;
 }
 
 std::string setting_value(const SettingSpec& spec, const Settings& settings) {

@@ -7,12 +7,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "spectralize/core/spectralizer.h"
 
 namespace spectralize {
@@ -66,6 +67,9 @@ struct Settings {
   // ("normal,rough") or signed words ("+msk,-metal"; colour words may end in ":emission").
   std::string data_names, colour_names;
   IngestSettings ingest;
+  // The settings the user gave (a flag, a keyword, a recipe key), by their place in the
+  // schema: what may be refused as unable to shape the output (ineffective_setting).
+  std::uint64_t given = 0;
 };
 
 /// One setting of the schema.
@@ -119,6 +123,20 @@ unsigned flag_commands(std::string_view flag);
 /// Cost: the setting's parse.
 void apply_setting(Settings& settings, const SettingSpec& spec, std::string_view text,
                    std::string_view where);
+
+/// True when the user gave `spec` (apply_setting stored it). Cost: O(1).
+bool was_given(const Settings& settings, const SettingSpec& spec);
+
+/// Takes `spec` out of what the user gave, for a front end that sets the value aside itself (a
+/// reader that must not create a cache folder drops it). Cost: O(1).
+void set_aside(Settings& settings, const SettingSpec& spec);
+
+/// The first setting the user gave that cannot shape the output for these settings: for the
+/// mode `decided`, or, when each input decides its own (an image's "auto"), in neither mode; so
+/// a flag the model ignores (--filter but for the paper model), --emission-basis on
+/// reflectances, --illuminant on light. nullptr when each can. Every front end refuses such a
+/// setting the same way (pipeline/job_plan.h). Cost: O(settings).
+const SettingSpec* ineffective_setting(const Settings& settings, std::optional<Mode> decided);
 
 /// The canonical text of a setting's value as done: format(), except that "mode" is the mode
 /// resolved into settings.spectral.mode (never "auto"). Cost: the setting's format.

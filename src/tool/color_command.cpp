@@ -15,7 +15,7 @@
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
 #include "text/json_text.h"
-#include "tool/flags.h"
+#include "tool/colour_values.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {

@@ -13,7 +13,7 @@
 #include "pipeline/image_job.h"
 #include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
-#include "tool/flags.h"
+#include "tool/console.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {

@@ -12,7 +12,7 @@
 #include "pipeline/job_plan.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
-#include "tool/flags.h"
+#include "tool/console.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -57,15 +57,15 @@ int run_ingest_command(const Options& opt) {
     throw UsageError{"ingest: give the files, folders or patterns to ingest (or --inputs-from)"};
   // The config and colour space are command-line values: checked before any work.
   const OptionNames names{"--", "-o"};
-  request.settings =
-      usage_checked("", [&] { return plan_to_spectral(request.settings, "", names).settings; });
+  JobPlan job = usage_checked("", [&] { return plan_to_spectral(request.settings, "", names); });
+  request.settings = job.settings;
   const ShardSpec shard = usage_checked("", [&] {
     if (!opt.shard.empty()) return with_context("--shard", [&] { return parse_shard(opt.shard); });
     return slurm_shard().value_or(ShardSpec{});
   });
   request.shard = shard.index;
   request.shards = shard.count;
-  const IngestPlan plan = usage_checked("", [&] { return plan_ingest(request); });
+  const IngestPlan plan = usage_checked("", [&] { return plan_ingest(request, std::move(job)); });
   const LogFn log = console_log(opt.verbosity);
   if (opt.verbosity >= 2)
     log(1, fmt::format("ingest: {} files in this shard ({} of {}), {} in the batch; {} left out",

@@ -18,7 +18,7 @@
 #include "spectralize/core/error.h"
 #include "spectralize/version.h"
 #include "text/strings.h"
-#include "tool/flags.h"
+#include "tool/colour_values.h"
 #include "tool/help.h"
 #include "tool/options.h"
 

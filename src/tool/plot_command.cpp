@@ -21,7 +21,7 @@
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
 #include "text/strings.h"
-#include "tool/flags.h"
+#include "tool/colour_values.h"
 #include "tool/options.h"
 
 namespace fs = std::filesystem;

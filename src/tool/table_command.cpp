@@ -11,7 +11,7 @@
 #include "settings/settings.h"
 #include "spectralize/core/error.h"
 #include "text/strings.h"
-#include "tool/flags.h"
+#include "tool/console.h"
 #include "tool/options.h"
 
 namespace spectralize::tool {
@@ -29,15 +29,6 @@ int run_table(const Options& opt) {
     throw UsageError{e.what()};
   }
   const Settings& s = plan.settings;
-  // A flag that cannot shape this table is a mistake to say, not to ignore (--emission-basis on
-  // a reflectance table, --illuminant on an emission one, --filter on a model without it).
-  for (const std::string& flag : opt.given) {
-    const SettingSpec* spec = find_setting_for_flag(flag, kTable);
-    if (spec && !spec->matters(s))
-      throw UsageError{"table: " + flag + " does not shape " +
-                       (s.spectral.mode == Mode::emission ? "an emission" : "a reflectance") +
-                       " table of the " + s.spectral.model + " model; leave it out"};
-  }
   // The destination is checked (and its temporary made) before the work.
   AtomicOutput out(opt.output, {});
   const RenderTable table = make_render_table(plan, console_log(opt.verbosity));
@@ -48,7 +39,7 @@ int run_table(const Options& opt) {
                "spectralize: wrote '{}': {}, {}, {}, {}; {:.1f} MB, {} node spectra, {} boundary "
                "cells; exact for {:.1f}% of the RGB unit cube (inside the {}; the rest is "
                "mapped); {:.1f} s\n",
-               opt.output, table.colorspace, to_string(s.spectral.mode), s.spectral.model,
+               opt.output, table.colorspace, to_string(s.spectral.mode), s.spectral.model.name(),
                s.spectral.grid.to_string(), static_cast<double>(table.bytes.size()) / 1e6,
                table.spectra, table.boundary_cells, 100 * table.feasible,
                s.spectral.mode == Mode::emission ? "spectral locus" : "reflectance solid",

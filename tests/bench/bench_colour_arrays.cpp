@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/colour_array.h"
 #include "pipeline/table_pool.h"
 

@@ -20,11 +20,11 @@
 
 #include "baseline/sigmoid_spectrum.h"
 #include "bench_colours.h"
-#include "core/exact_table.h"
-#include "core/exemplar_model.h"
-#include "core/paper_solver.h"
-#include "core/spectral_table.h"
-#include "core/table_file.h"
+#include "core/models/exemplar_model.h"
+#include "core/solvers/paper_solver.h"
+#include "core/tables/exact_table.h"
+#include "core/tables/spectral_table.h"
+#include "core/tables/table_file.h"
 #include "rgb2spec_c.h"
 #include "spectralize/core/spectralizer.h"
 

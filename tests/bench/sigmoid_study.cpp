@@ -14,7 +14,7 @@
 
 #include "baseline/sigmoid_spectrum.h"
 #include "bench_colours.h"
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 
 using namespace spectralize;
 using namespace spectralize::baseline;

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/colour_difference.h"
-#include "core/smooth_solver.h"
+#include "core/colorimetry/colour_difference.h"
+#include "core/solvers/smooth_solver.h"
 #include "spectralize/core/colorimetry.h"
 #include "spectralize/core/sample_weights.h"
 #include "spectralize/core/spectralizer.h"

@@ -59,6 +59,24 @@ INSTANTIATE_TEST_SUITE_P(
                 "--illuminant does not shape an emission table"},
         BadFlag{"table -o t.spztab --mode reflectance --model natural --filter 0.5",
                 "--filter does not shape a reflectance table of the natural model"},
+        // And every other front end's: --color, an image, ingest (recipes below, Python in
+        // tests/python/test_arguments.py).
+        BadFlag{"--color 0.5,0.4,0.3 --model natural --filter 0.5",
+                "--filter does not shape emission spectra of the natural model; leave it out"},
+        BadFlag{"--color 0.5,0.4,0.3 --illuminant A",
+                "--illuminant does not shape emission spectra"},
+        BadFlag{"--color 0.5,0.4,0.3 --mode reflectance --emission-basis D65 -o p.png",
+                "--emission-basis does not shape reflectance spectra"},
+        BadFlag{
+            SPECTRALIZE_SOURCE_DIR "/testimages/grey_ramp8.png -o o.exr --model smooth "
+                                   "--filter 0.5",
+            "--filter does not shape the spectra of the smooth model, a light's or a surface's"},
+        BadFlag{SPECTRALIZE_SOURCE_DIR "/testimages/grey_ramp8.png -o o.exr --mode emission "
+                                       "--illuminant A",
+                "--illuminant does not shape emission spectra"},
+        BadFlag{"ingest " SPECTRALIZE_SOURCE_DIR "/testimages -o ingested --model exemplar "
+                "--curvature 20",
+                "--curvature does not shape the spectra of the exemplar model"},
         BadFlag{"in.exr -o o.exr --compression bogus", "--compression: 'bogus'"},
         BadFlag{"--color 1,1,1 --colorspace "
                 "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"
@@ -66,6 +84,15 @@ INSTANTIATE_TEST_SUITE_P(
                 "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"
                 "ZZZZZ",
                 "bytes)"}));
+
+// What may shape an input's spectra is not refused: a surface's illuminant for an image whose
+// mode is decided from the file.
+TEST(CommandLines, ASettingThatMayShapeAnInputIsAccepted) {
+  Scratch s;
+  auto r = run(kImages + "grey_ramp8.png -q -o " + (s / "a.exr") + " --illuminant A");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / "a.exr"));
+}
 
 TEST(CommandLines, DoubleDashAndLongNamesWork) {
   Scratch s;
@@ -91,12 +118,20 @@ TEST(CommandLines, RecipesRefuseWhatTheCliRefuses) {
   fs::copy_file(kImages + "grey_ramp8.png", s / "grey.png");
   for (const char* recipe :
        {R"({"source": "grey.png", "compression": "bogus"})", R"({"source": "grey.png", "tile": 7})",
-        R"({"source": "grey.png", "threads": ""})", R"({"source": "grey.png", "report": "x"})"}) {
+        R"({"source": "grey.png", "threads": ""})", R"({"source": "grey.png", "report": "x"})",
+        R"({"source": "grey.png", "model": "natural", "filter": "0.5"})"}) {
     std::ofstream(s / "r.spectral") << recipe;
     auto t = tool("oiiotool " + (s / "r.spectral") + " -o " + (s / "o.exr"));
     EXPECT_NE(t.exit_code, 0) << recipe;
     EXPECT_NE(t.out.find("r.spectral"), std::string::npos) << t.out;
   }
+  // A setting that shapes nothing, named as the recipe spells it.
+  std::ofstream(s / "r.spectral")
+      << R"({"source": "grey.png", "mode": "emission", "illuminant": "A"})";
+  auto shaped = tool("oiiotool " + (s / "r.spectral") + " -o " + (s / "o.exr"));
+  EXPECT_NE(shaped.exit_code, 0);
+  EXPECT_NE(shaped.out.find("illuminant does not shape emission spectra"), std::string::npos)
+      << shaped.out;
   // Recipes over 64 KB are refused (docs/guide/files.md), with a short message.
   std::ofstream(s / "big.spectral")
       << "{\"source\": \"grey.png\", \"x\": \"" << std::string(70000, 'y') << "\"}";

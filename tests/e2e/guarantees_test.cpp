@@ -194,6 +194,7 @@ struct KeyCase {
   std::string key;   // the schema's setting it exercises
   std::string args;  // added to the baseline's command line
   std::set<std::string> redone;
+  bool refused = false;  // a setting that shapes no file of the batch: exit 2, nothing touched
 };
 
 // Truth: a rerun redoes exactly the files a changed setting shapes, as resolved for each file
@@ -220,8 +221,9 @@ TEST(Guarantees, UpToDateMeansTheSameFileWouldBeWritten) {
       {"observer", "--observer cie1964", all},
       {"illuminant", "--illuminant A", {"surface.png"}},
       {"model", "--model smooth", all},
-      {"filter", "--filter 0.5", none},      // the default (exemplar) model has no edge filter
-      {"curvature", "--curvature 5", none},  // only the smooth model's
+      // The default (exemplar) model has no edge filter and no curvature: refused, not ignored.
+      {"filter", "--filter 0.5", none, true},
+      {"curvature", "--curvature 5", none, true},
       {"emission_basis", "--emission-basis D65", {"light.exr"}},
       {"format", "--format float", all},
       {"compression", "--compression piz", all},
@@ -268,6 +270,14 @@ TEST(Guarantees, UpToDateMeansTheSameFileWouldBeWritten) {
     fs::remove_all(s / "case");
     fs::copy(s / "base", s / "case", fs::copy_options::recursive);
     r = run("ingest lib -o case -q " + c.args, cd);
+    if (c.refused) {
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_NE(r.err.find("does not shape"), std::string::npos) << r.err;
+      EXPECT_EQ(e2e::slurp(s / "case/spectralize-ingest.jsonl"),
+                e2e::slurp(s / "base/spectralize-ingest.jsonl"))
+          << "nothing touched";
+      continue;
+    }
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto m = manifest(s / "case/spectralize-ingest.jsonl");
     EXPECT_EQ(with_status(m, "converted"), c.redone);

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "spectralize/core/spectralizer.h"
-#include "tool/flags.h"
+#include "tool/colour_values.h"
 
 using namespace spectralize;
 

@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "../unit/rt_reproduction.h"
-#include "core/exact_table.h"
-#include "core/spectral_table.h"
-#include "core/table_file.h"
+#include "core/tables/exact_table.h"
+#include "core/tables/spectral_table.h"
+#include "core/tables/table_file.h"
 
 using namespace spectralize;
 

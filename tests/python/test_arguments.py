@@ -3,8 +3,11 @@ fuzz of the argument handling (random shapes, dtypes, option names and values)."
 import subprocess
 import sys
 
+import os
+
 import numpy as np
 import pytest
+from conftest import IMAGES
 
 
 @pytest.mark.parametrize(
@@ -113,3 +116,29 @@ print("ok", n)
     assert p.returncode == 0, p.stderr[-3000:]
     assert p.stdout.startswith("ok"), p.stdout
     assert int(p.stdout.split()[1]) > 50  # some calls were valid and ran
+
+
+# A setting that cannot shape the result is refused by every function as by the command line
+# (pipeline/job_plan.h), naming it: the filter on a model without one, the emission basis on
+# reflectances, the illuminant on light; left to each input ("auto"), only what shapes neither.
+def test_a_setting_that_shapes_nothing_is_refused(sp, tmp_path):
+    png = str(IMAGES / "grey_ramp8.png")
+    cases = [
+        (lambda: sp.spectra([0.2, 0.3, 0.4], model="natural", filter="0.5"),
+         r"spectra\(\): filter does not shape emission spectra of the natural model; leave it out"),
+        (lambda: sp.spectra([0.2, 0.3, 0.4], mode="reflectance", emission_basis="D65"),
+         r"emission_basis does not shape reflectance spectra of the exemplar model"),
+        (lambda: sp.spectra([0.2, 0.3, 0.4], illuminant="A"),
+         r"illuminant does not shape emission spectra"),
+        (lambda: sp.table(str(tmp_path / "t.spztab"), mode="emission", illuminant="A"),
+         r"illuminant does not shape an emission table of the exemplar model"),
+        (lambda: sp.convert(png, str(tmp_path / "o.exr"), model="smooth", filter="0.5"),
+         r"filter does not shape the spectra of the smooth model, a light's or a surface's"),
+    ]
+    for call, message in cases:
+        with pytest.raises(ValueError, match=message):
+            call()
+    assert not os.listdir(tmp_path), "nothing is written"
+    # A surface's illuminant for an image whose mode is decided from the file: it may shape it.
+    sp.convert(png, str(tmp_path / "o.exr"), illuminant="A")
+    assert os.path.exists(tmp_path / "o.exr")

@@ -27,8 +27,37 @@ for dir in "${!allowed[@]}"; do
     case " ${allowed[$dir]} " in *" $target "*) ;; *)
       echo "src/$file includes $target/: $dir may include only ${allowed[$dir]}"; bad=1 ;;
     esac
-  done < <(grep -HE '^#include "[a-z_]+/' "$dir"/*.h "$dir"/*.cpp 2>/dev/null || true)
+  done < <(grep -rHE '^#include "[a-z_]+/' "$dir" --include='*.h' --include='*.cpp' || true)
 done
+# Inside core, by topic: each subfolder may include core's own files (core/*.h) and the
+# subfolders listed after it.
+declare -A core_allowed=(
+  [colorimetry]=""
+  [solvers]="colorimetry"
+  [gamut]="colorimetry"
+  [models]="colorimetry solvers"
+  [tables]="colorimetry gamut"
+)
+for sub in "${!core_allowed[@]}"; do
+  [ -d "core/$sub" ] || { echo "check_layers: no folder src/core/$sub" >&2; bad=1; continue; }
+  while IFS= read -r line; do
+    file="${line%%:*}"
+    target="$(sed -E 's/.*#include "core\/([a-z_]+)\/.*/\1/' <<<"${line#*:}")"
+    [ "$target" = "$sub" ] && continue
+    case " ${core_allowed[$sub]} " in *" $target "*) ;; *)
+      echo "src/$file includes core/$target/: core/$sub may include only ${core_allowed[$sub]:-nothing else}"; bad=1 ;;
+    esac
+  done < <(grep -rHE '^#include "core/[a-z_]+/' "core/$sub" || true)
+done
+for sub in core/*/; do
+  sub="${sub#core/}"; sub="${sub%/}"
+  [ -n "${core_allowed[$sub]+x}" ] || { echo "src/core/$sub/ is not in the core layer table"; bad=1; }
+done
+# No folder of src/ holds more than 15 translation units: a folder is one topic.
+while IFS= read -r dir; do
+  n=$(find "$dir" -maxdepth 1 -name '*.cpp' | wc -l)
+  [ "$n" -le 15 ] || { echo "src/$dir holds $n sources (more than 15): split it by topic"; bad=1; }
+done < <(find . -mindepth 1 -type d | sed 's#^\./##')
 # Every folder of src/ is in the table above or a front end (tool, figures, path_tracer).
 for dir in */; do
   dir="${dir%/}"

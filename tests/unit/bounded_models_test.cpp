@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"

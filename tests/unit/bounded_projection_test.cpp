@@ -3,7 +3,7 @@
 // test's own arithmetic: x = clamp(start + W^T nu) for one multiplier nu, fitted here by least
 // squares on the free samples, and W x = target summed here.
 
-#include "core/bounded_projection.h"
+#include "core/solvers/bounded_projection.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/cell_clipping.h"
+#include "core/gamut/cell_clipping.h"
 
 namespace spectralize {
 namespace {

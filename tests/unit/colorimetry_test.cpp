@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "core/embedded_data.h"
+#include "core/colorimetry/embedded_data.h"
 #include "spectralize/core/error.h"
 #include "test_support.h"
 

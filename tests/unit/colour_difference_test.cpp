@@ -5,7 +5,7 @@
 // CIEDE2000's local metric (the exemplar model's distance) against CIEDE2000 itself at small
 // steps.
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 
 #include <gtest/gtest.h>
 

@@ -14,6 +14,7 @@
 
 #include "file_test_support.h"
 #include "spectralize/core/error.h"
+#include "test_support.h"
 
 namespace spectralize {
 namespace {
@@ -21,31 +22,58 @@ namespace {
 const std::string kAcesConfig =
     SPECTRALIZE_SOURCE_DIR "/tests/ocio/cg-config-v1.0.0_aces-v1.3_ocio-v2.1.ocio";
 
-TEST(ColourSpace, ChromaticitiesMatchUpToTheAdaptationOfTheirWhite) {
-  // Rec.709 primaries adapted to a D50 white, as an ICC sRGB profile's colorants state them
-  // (rXYZ 0.4361 0.2225 0.0139, gXYZ 0.3851 0.7169 0.0971, bXYZ 0.1431 0.0606 0.7141) and as
-  // Photoshop writes EXR chromaticities.
-  const float d50_709[8] = {0.6484f, 0.3309f, 0.3212f, 0.5978f, 0.1559f, 0.0660f, 0.3457f, 0.3585f};
-  const float rec709[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
-  const auto adapted = adapt_chromaticities_to_d65(d50_709);
-  EXPECT_LT(chromaticity_difference(adapted.data(), rec709), 1e-4);
-  EXPECT_EQ(interop_id_of_chromaticities(d50_709), "lin_rec709_scene");
-  // Rec.709's own primaries with a D50 white are another space (0.02 away once adapted).
-  const float unadapted[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3457f, 0.3585f};
-  EXPECT_GT(chromaticity_difference(adapt_chromaticities_to_d65(unadapted).data(), rec709), 0.01);
-  EXPECT_EQ(interop_id_of_chromaticities(unadapted), "");
-  // D65 input is unchanged; AP1 with the ACES white is ACEScg; Rec.2020 is not AP1.
-  EXPECT_LT(chromaticity_difference(adapt_chromaticities_to_d65(rec709).data(), rec709), 1e-6);
+TEST(ColourSpace, TheConfigSeesAcescgAsTheBradfordAdaptationGivesIt) {
   const float ap1[8] = {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
-  EXPECT_EQ(interop_id_of_chromaticities(ap1), "lin_ap1_scene");
-  const float rec2020[8] = {0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f};
-  EXPECT_EQ(interop_id_of_chromaticities(rec2020), "lin_rec2020_scene");
-  // The config sees ACEScg's primaries as the same adaptation gives them.
   const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
   const auto p = aces.primaries_d65("ACEScg");
   ASSERT_TRUE(p);
   EXPECT_LT(chromaticity_difference(p->data(), adapt_chromaticities_to_d65(ap1).data()),
             kChromaticityTolerance);
+}
+
+TEST(ColourSpace, ANameIsResolvedOnceIntoWhatIsKnownOfTheSpace) {
+  const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
+  // An alias, in another case: the name as given stays for messages, the facts are the space's.
+  const NamedSpace named = aces.named("aces - acescg");
+  ASSERT_TRUE(named);
+  EXPECT_EQ(named.given, "aces - acescg");
+  EXPECT_EQ(named.name(), "ACEScg");
+  EXPECT_EQ(named.facts, &aces.facts("ACEScg"));  // one record per space and config
+  EXPECT_FALSE(aces.named(""));
+  try {
+    aces.named("no such space");
+    ADD_FAILURE() << "an unknown name was resolved";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ACEScg"), std::string::npos) << "lists the valid names";
+  }
+}
+
+TEST(ColourSpace, FactsMeasureTheMatrixTheWhiteAndOneMeaningOfLinear) {
+  const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
+  // ACEScg: the AP1 matrix Bradford-adapted to D65 (the tests' own, from the primaries), its
+  // white D65.
+  const ColourSpaceFacts& cg = aces.facts("ACEScg");
+  ASSERT_TRUE(cg.rgb_to_xyz.has_value());
+  const test::Mat3 want = test::acescg_to_xyz_d65();
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR((*cg.rgb_to_xyz)[i], want[i / 3][i % 3], 1e-5) << i;
+  EXPECT_NEAR(cg.white.X, 0.95047, 1e-4);
+  EXPECT_NEAR(cg.white.Y, 1.0, 1e-5);
+  EXPECT_TRUE(cg.linear);
+  ASSERT_TRUE(cg.transfer.has_value());
+  EXPECT_EQ(cg.transfer->kind, IccTransfer::linear);
+  // A curve: not linear, and its transfer says which; the ID and the transfer agree.
+  const ColourSpaceFacts& tx = aces.facts("Utility - sRGB - Texture");
+  EXPECT_FALSE(tx.linear);
+  ASSERT_TRUE(tx.transfer.has_value());
+  EXPECT_EQ(tx.transfer->kind, IccTransfer::srgb);
+  EXPECT_EQ(tx.interop_id, "srgb_rec709_scene");
+  // Every space of the config: linear exactly when its transfer is the linear one.
+  for (const std::string& name : aces.names()) {
+    SCOPED_TRACE(name);
+    const ColourSpaceFacts& f = aces.facts(name);
+    if (f.data) continue;
+    EXPECT_EQ(f.linear, f.transfer && f.transfer->kind == IccTransfer::linear);
+  }
 }
 
 TEST(ColourSpace, InteropIdsSayDisplayReferred) {

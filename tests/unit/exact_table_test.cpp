@@ -7,7 +7,7 @@
 
 #include <random>
 
-#include "core/exact_table.h"
+#include "core/tables/exact_table.h"
 #include "test_support.h"
 
 namespace spectralize {

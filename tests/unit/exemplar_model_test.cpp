@@ -6,7 +6,7 @@
 // it does to greys. Exactness and bounds on random colours of three spaces are in
 // bounded_models_test.cpp (parametrised over models).
 
-#include "core/exemplar_model.h"
+#include "core/models/exemplar_model.h"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "core/colour_difference.h"
-#include "core/natural_solver.h"
+#include "core/colorimetry/colour_difference.h"
+#include "core/solvers/natural_solver.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"

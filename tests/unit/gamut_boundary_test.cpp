@@ -7,7 +7,7 @@
 
 #include <random>
 
-#include "core/gamut_boundary.h"
+#include "core/gamut/gamut_boundary.h"
 #include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 

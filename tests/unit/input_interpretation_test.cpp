@@ -102,8 +102,8 @@ TEST(InputInterpretation, ColourSpaceByCommandLineMetadataRulesConventionsThenRo
   tex.attribute("colorInteropID", "srgb_rec709_display");
   tex.attribute("oiio:ColorSpace", "sRGB - Display");
   EXPECT_EQ(interpret_colour("t.png", tex, s, aces).colorspace, "sRGB - Display");
-  // The command line wins over everything.
-  s.colorspace = "acescg";
+  // The command line wins over everything (its name as the planner resolved it).
+  s.colorspace = "ACEScg";
   in = interpret_colour("a.exr", tagged, s, spaces);
   EXPECT_EQ(in.colorspace, "ACEScg");
   EXPECT_EQ(in.colorspace_reason, "--colorspace");

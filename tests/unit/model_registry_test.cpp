@@ -1,5 +1,5 @@
-// The model registry (src/core/model_registry.cpp, docs/DESIGN.md §6): the four models in the
-// order --help lists them, the default one, the settings each reads (the paper model the
+// The model registry (src/core/models/model_registry.cpp, docs/DESIGN.md §6): the four models in
+// the order --help lists them, the default one, the settings each reads (the paper model the
 // filter, the smooth model the curvature, the natural and exemplar models none), unknown names
 // refused naming the valid ones, and each entry builds its own model: exact and bounded
 // (test_support.h's integration), with that model's own details.

@@ -1,5 +1,5 @@
-// NaturalSolver (src/core/natural_solver.h, docs/DESIGN.md §6): among the exact spectra of a
-// target, the one whose link z (x = upper (tanh z + 1) / 2, or e^z for lights) is smoothest;
+// NaturalSolver (src/core/solvers/natural_solver.h, docs/DESIGN.md §6): among the exact spectra of
+// a target, the one whose link z (x = upper (tanh z + 1) / 2, or e^z for lights) is smoothest;
 // exact to 1e-12 and strictly inside the bounds, homogeneous in the bound and (lights) in the
 // target; the depth that decides the fallback (0 on the grey ray, 1 on the boundary, linear
 // along the ray) and a fallback whose weight rises from the natural depth, continuous across
@@ -7,7 +7,7 @@
 // as the colours (test_support.h's own integration) of known spectra, which are then feasible;
 // the link roughness written out from its definition; bisection on the Spectralizer's gamut.
 
-#include "core/natural_solver.h"
+#include "core/solvers/natural_solver.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// PaperModel (src/core/paper_model.h, docs/DESIGN.md §2, §6): the paper's filtered average made
-// exact and bounded. Its details count the admissible and dropped partial solutions (the drop
+// PaperModel (src/core/models/paper_model.h, docs/DESIGN.md §2, §6): the paper's filtered average
+// made exact and bounded. Its details count the admissible and dropped partial solutions (the drop
 // rule written out here); an average above the bound is replaced by the exact projection within
 // it, reported as bounded; edge peaks the automatic filter's ladder leaves are capped exactly,
 // reported as edge_capped. Exactness by the test's own integration (test_support.h).
 
-#include "core/paper_model.h"
+#include "core/models/paper_model.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // >= 0) partial solutions averaged, optionally after dropping the K with the largest density
 // (EdgeFilter itself is in edge_filter_test.cpp).
 
-#include "core/paper_solver.h"
+#include "core/solvers/paper_solver.h"
 
 #include <gtest/gtest.h>
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "colour/colour_space.h"
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 

@@ -21,7 +21,6 @@
 
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -90,7 +89,7 @@ TEST(RenderTable, APrimariesMatrixIsTheSpacesPublishedPrimariesAndWhite) {
   };
   for (const auto& [space, want] : cases) {
     SCOPED_TRACE(space);
-    const std::optional<Mat3> m = primaries_matrix(spaces(), space);
+    const std::optional<Mat3>& m = spaces().facts(space).rgb_to_xyz;
     ASSERT_TRUE(m.has_value());
     EXPECT_LT(max_diff(*m, want), kMatrixTolerance);
   }
@@ -100,8 +99,8 @@ TEST(RenderTable, APrimariesMatrixIsTheSpacesPublishedPrimariesAndWhite) {
 }
 
 TEST(RenderTable, DataSpacesHaveNoPrimariesMatrixAndUnknownOnesAreRefused) {
-  EXPECT_FALSE(primaries_matrix(spaces(), "Raw").has_value());
-  EXPECT_THROW(primaries_matrix(spaces(), "no such space"), Error);
+  EXPECT_FALSE(spaces().facts("Raw").rgb_to_xyz.has_value());
+  EXPECT_THROW(spaces().facts("no such space"), Error);
 }
 
 TEST(RenderTable, TheTableFrameIsTheSpacesMatrixWhenItsWhiteIsD65) {
@@ -116,17 +115,17 @@ TEST(RenderTable, TheTableFrameIsTheSpacesMatrixWhenItsWhiteIsD65) {
 }
 
 TEST(RenderTable, OnlyALinearSpaceIsAMatrixSpace) {
-  EXPECT_TRUE(is_matrix_space(spaces(), kRec709, flat(rec709())));
-  EXPECT_TRUE(is_matrix_space(spaces(), "Linear Rec.2020", flat(rec2020())));
-  EXPECT_TRUE(is_matrix_space(spaces(), "ACEScg", flat(test::acescg_to_xyz_d65())));
-  // A curve shows between 0 and 1 (and beyond).
-  EXPECT_FALSE(is_matrix_space(spaces(), "sRGB - Texture", flat(rec709())));
-  EXPECT_FALSE(is_matrix_space(spaces(), "Gamma 2.2 Rec.709 - Texture", flat(rec709())));
-  const std::optional<Mat3> cct = primaries_matrix(spaces(), "ACEScct");
-  ASSERT_TRUE(cct.has_value());
-  EXPECT_FALSE(is_matrix_space(spaces(), "ACEScct", *cct));
-  // A linear space with another space's matrix is not that matrix.
-  EXPECT_FALSE(is_matrix_space(spaces(), kRec709, flat(rec2020())));
+  for (const char* space : {"Linear Rec.709 (sRGB)", "Linear Rec.2020", "ACEScg"}) {
+    SCOPED_TRACE(space);
+    EXPECT_TRUE(spaces().facts(space).linear);
+  }
+  // A curve shows between 0 and 1 (and beyond); a log curve has a matrix of its unit colours
+  // but is no matrix space.
+  for (const char* space : {"sRGB - Texture", "Gamma 2.2 Rec.709 - Texture", "ACEScct"}) {
+    SCOPED_TRACE(space);
+    EXPECT_FALSE(spaces().facts(space).linear);
+  }
+  EXPECT_TRUE(spaces().facts("ACEScct").rgb_to_xyz.has_value());
 }
 
 TEST(RenderTable, APlanIsForALinearSpaceAndASpztabAndAutoIsAReflectance) {
@@ -351,20 +350,6 @@ TEST(RenderTable, ARenderersMatrixIsForTheSpaceTheTableIsNamedAfter) {
   EXPECT_NE(msg.find("not those of 'Linear Rec.709 (sRGB)'"), std::string::npos) << msg;
   s.rgb_to_xyz = "0.64,0.33,0.3,0.6,0.15,0.06,D65";
   EXPECT_NO_THROW(plan_table(s, "r.spztab", kFlags));
-}
-
-TEST(RenderTable, AWrittenTableIsItsBytesAndABadPathIsNamed) {
-  test::TempDir t("render_table");
-  RenderTable table;
-  table.bytes = std::string("SPZ\0table bytes", 15);
-  const std::string path = t / "out.spztab";
-  write_render_table(path, table);
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()),
-            table.bytes);
-  const std::string missing = t / "no/such/dir/out.spztab";
-  test::expect_error_mentioning([&] { write_render_table(missing, table); }, {missing},
-                                "a missing folder");
 }
 
 }  // namespace

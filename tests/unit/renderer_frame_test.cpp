@@ -1,10 +1,10 @@
-// A renderer's RGB -> XYZ (src/core/renderer_frame.h): the matrix of published primaries and a
-// white is the textbook one (oracle: the sRGB matrix as published to 7 digits with white
-// (0.95047, 1, 1.08883)); an illuminant's white under an observer is its published
+// A renderer's RGB -> XYZ (src/core/colorimetry/renderer_frame.h): the matrix of published
+// primaries and a white is the textbook one (oracle: the sRGB matrix as published to 7 digits with
+// white (0.95047, 1, 1.08883)); an illuminant's white under an observer is its published
 // chromaticity (CIE 015: D65 2 degrees 0.31272, 0.32903; A 0.44757, 0.40745); the two forms
 // parse, print canonically and resolve; everything else is refused saying why.
 
-#include "core/renderer_frame.h"
+#include "core/colorimetry/renderer_frame.h"
 
 #include <gtest/gtest.h>
 

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "colour/colour_space.h"
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "pipeline/spectral_image_layout.h"
 #include "settings/settings.h"
 #include "spectralize/core/error.h"
@@ -147,13 +147,49 @@ TEST(SettingsSchema, EverySettingThatShapesSpectraIsInTheCacheKeyReportAndAttrib
       if (!differ(spectra(alt), base_spectra)) continue;
       ++shaping;
       SCOPED_TRACE(std::string(spec.key) + " from mode " + std::string(to_string(base.mode)) +
-                   ", model " + base.spectral.model);
+                   ", model " + std::string(base.spectral.model.name()));
       EXPECT_NE(table_cache_key(alt, "layout"), base_key);
       EXPECT_NE(describe_settings(alt, kImage), describe_settings(base, kImage));
       EXPECT_NE(attributes(alt), attributes(base));
     }
   }
   EXPECT_GE(shaping, 20);  // the check above is not vacuous
+}
+
+// Truth: a setting the user gives is refused as shaping nothing exactly when it changes no
+// spectrum (found by computing spectra, not by asking the schema), for every model and mode; a
+// mode left to each input refuses only what shapes neither mode.
+TEST(SettingsSchema, AGivenSettingIsRefusedExactlyWhenItShapesNoSpectrum) {
+  int refused = 0;
+  for (const ModelInfo& model : spectrum_models())
+    for (Mode mode : {Mode::emission, Mode::reflectance}) {
+      Settings base;
+      base.spectral.model = model.name;
+      base.spectral.mode = mode;
+      EXPECT_EQ(ineffective_setting(base, mode), nullptr) << "nothing given, nothing refused";
+      const auto base_spectra = spectra(base);
+      for (const SettingSpec& spec : settings_schema()) {
+        if (!spec.spectral || spec.key == "mode" || spec.key == "model") continue;
+        SCOPED_TRACE(std::string(spec.key) + " on " + std::string(model.name) + ", " +
+                     std::string(to_string(mode)));
+        Settings alt = base;
+        apply_setting(alt, spec, kExamples.at(std::string(spec.key)).first, spec.flag);
+        EXPECT_TRUE(was_given(alt, spec));
+        const bool shapes = differ(spectra(alt), base_spectra);
+        const SettingSpec* named = ineffective_setting(alt, mode);
+        EXPECT_EQ(named == &spec, !shapes) << "shapes the spectra: " << shapes;
+        refused += named == &spec;
+        // Left to each input: refused only when it shapes neither mode's spectra.
+        Settings other = alt, other_base = base;
+        other.spectral.mode = other_base.spectral.mode =
+            mode == Mode::emission ? Mode::reflectance : Mode::emission;
+        const bool shapes_other = differ(spectra(other), spectra(other_base));
+        EXPECT_EQ(ineffective_setting(alt, std::nullopt) == &spec, !shapes && !shapes_other);
+      }
+    }
+  // The filter and the curvature on the models without them, the basis on reflectances, the
+  // illuminant on light: the check above is not vacuous.
+  EXPECT_GE(refused, 16);
 }
 
 TEST(SettingsSchema, FlagsMapToTheirCommands) {

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "test_support.h"
 
 namespace spectralize::baseline {

@@ -1,11 +1,11 @@
-// SmoothModel (src/core/smooth_model.h, docs/DESIGN.md §6): the least-roughness exact bounded
-// spectrum for the context's curvature length tau. Each tau's spectrum is the smoothest by its
-// own measure (no rougher by it than another tau's spectrum of the same colour, which is as
+// SmoothModel (src/core/models/smooth_model.h, docs/DESIGN.md §6): the least-roughness exact
+// bounded spectrum for the context's curvature length tau. Each tau's spectrum is the smoothest by
+// its own measure (no rougher by it than another tau's spectrum of the same colour, which is as
 // exact and bounded); its details are its iterations and whether the primal phase ran; near
 // the locus, where the fast phase may fail, the spectrum is still exact and bounded. Exactness
 // by the test's own integration (test_support.h).
 
-#include "core/smooth_model.h"
+#include "core/models/smooth_model.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// SmoothSolver (src/core/smooth_solver.h, docs/DESIGN.md §6): the least-roughness spectrum
+// SmoothSolver (src/core/solvers/smooth_solver.h, docs/DESIGN.md §6): the least-roughness spectrum
 // among the exact ones within 0 <= x <= upper. The roughness is checked against its definition
 // (weighted squared first and second differences), the solutions for exactness (the test's own
 // integration, test_support.h), bounds and optimality: no feasible direction (a move of the
@@ -6,7 +6,7 @@
 // free ones) lowers the roughness, its gradient written out here. Targets are the colours of
 // known spectra (feasible by construction), which the solution may not be rougher than.
 
-#include "core/smooth_solver.h"
+#include "core/solvers/smooth_solver.h"
 
 #include <gtest/gtest.h>
 

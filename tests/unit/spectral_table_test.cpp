@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "spectralize/core/spectralizer.h"
 #include "test_support.h"
 

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <vector>
 
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "figures/figure_image.h"
 
 namespace spectralize::figures {

@@ -40,7 +40,9 @@ TEST(Messages, ClipShortensLongValuesAtACharacterBoundary) {
   EXPECT_EQ(clip("short", 80), "short");
   const std::string long_value(1000, 'v');
   const std::string clipped = clip(long_value, 80);
-  EXPECT_EQ(clipped.substr(0, 83), std::string(80, 'v') + "...");
+  std::string want(80, 'v');
+  want += "...";  // not operator+: GCC 12 sees a bogus out-of-bounds copy in it at -O1
+  EXPECT_EQ(clipped.substr(0, 83), want);
   EXPECT_LT(clipped.size(), 120u);
   // "é" is two bytes: a cut at 5 bytes would split the third one.
   const std::string accents = "\xC3\xA9\xC3\xA9\xC3\xA9\xC3\xA9";

@@ -7,7 +7,7 @@
 
 #include <filesystem>
 
-#include "core/spectral_table.h"
+#include "core/tables/spectral_table.h"
 #include "file_test_support.h"
 
 namespace fs = std::filesystem;

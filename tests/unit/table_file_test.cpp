@@ -1,4 +1,4 @@
-// The render-time table file (src/core/table_file.h, docs/DESIGN.md §14; the layout of
+// The render-time table file (src/core/tables/table_file.h, docs/DESIGN.md §14; the layout of
 // include/spectralize/rt_format.h): what encode_table_file writes for a table built whole.
 // The header says what the table was made from; the sections lie where the format puts them
 // with the counts the table implies; the checksum is FNV-1a 64 of the file with its own field
@@ -9,7 +9,7 @@
 // truncated, flipped, re-versioned or otherwise bad files, naming the file, is rt_test.cpp's
 // (RtFile, on the tables `spectralize table` writes).
 
-#include "core/table_file.h"
+#include "core/tables/table_file.h"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@
 #include <tuple>
 #include <vector>
 
-#include "core/exact_table.h"
+#include "core/tables/exact_table.h"
 #include "spectralizer_checks.h"
 #include "test_support.h"
 

@@ -161,7 +161,9 @@ TEST(TablePool, ConcurrentFirstGetsBuildOneSpectralizer) {
 TEST(TablePool, AFailedBuildIsThrownToEveryCallerAndTriedAgainLater) {
   TablePool pool;
   Settings s = settings_of();
-  s.spectral.model = "no such model";
+  // An illuminant no table knows: the spectralizer's construction throws.
+  s.spectral.mode = Mode::reflectance;
+  s.spectral.illuminant = "no such illuminant";
   std::vector<std::thread> threads;
   std::atomic<int> failed{0};
   for (int i = 0; i < 3; ++i)

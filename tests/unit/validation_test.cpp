@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "colour/colour_space.h"
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 #include "spectralize/core/sample_weights.h"
 #include "spectralize/core/spectralizer.h"
 #include "spectralize/core/spectrum_model.h"

@@ -92,7 +92,7 @@ struct SpectralizerSettings {
   Mode mode = Mode::emission;
   std::string illuminant = "D65";             // reference illuminant of reflectances
   EdgeFilter filter = default_edge_filter();  // paper model only
-  std::string model{default_model_name()};    // a registered model (core/spectrum_model.h)
+  RegisteredModel model;                      // default_model_name() unless chosen
   // Emission only: "flat" (phi >= 0 free per sample) or an illuminant name, e.g. "D65": the
   // spectrum is E(lambda) s(lambda) with s >= 0, and the input white (D65) is balanced to E's
   // colour like a reflectance's (eq. 6), so white light becomes E itself.

@@ -71,4 +71,32 @@ const ModelInfo& find_model(std::string_view name);
 /// The model used when none is chosen. Cost: O(1).
 std::string_view default_model_name();
 
+/// A registered model, resolved once from its name and passed on as this value (never looked
+/// up by name again); compared by identity. Constructible from a name, so that
+/// `settings.model = "paper"` reads as it says.
+class RegisteredModel {
+ public:
+  /// The default model. Cost: O(models).
+  RegisteredModel() : RegisteredModel(default_model_name()) {}
+  /// The model registered as `name`; throws Error naming the valid ones. Cost: O(models).
+  RegisteredModel(std::string_view name) : info_(&find_model(name)) {}
+  /// As above, for a C string. Cost: O(models).
+  RegisteredModel(const char* name) : RegisteredModel(std::string_view(name)) {}
+  /// As above, for a string. Cost: O(models).
+  RegisteredModel(const std::string& name) : RegisteredModel(std::string_view(name)) {}
+  /// What is registered: name, summary, settings, factory. Cost: O(1).
+  const ModelInfo& info() const { return *info_; }
+  /// The registered name ("exemplar"). Cost: O(1).
+  std::string_view name() const { return info_->name; }
+  /// True when the model reads the setting `name` (ModelInfo::uses). Cost: O(settings).
+  bool uses(std::string_view setting) const { return info_->uses(setting); }
+  /// The same model. Cost: O(1).
+  friend bool operator==(const RegisteredModel& a, const RegisteredModel& b) {
+    return a.info_ == b.info_;
+  }
+
+ private:
+  const ModelInfo* info_;
+};
+
 }  // namespace spectralize

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "../test_support.h"
-#include "core/colour_difference.h"
+#include "core/colorimetry/colour_difference.h"
 
 namespace spectralize::path_tracer {
 namespace {
