@@ -13,8 +13,11 @@ text = (root / "docs/guide/layout.md").read_text()
 named = set(re.findall(r"`([^`\s]+)`", text))
 # Folders under version control only (a build tree or a cache is not the layout); outside a
 # git checkout, the files but build trees and hidden folders.
-listing = subprocess.run(["git", "-C", str(root), "ls-files"], capture_output=True, text=True)
-if listing.returncode == 0:
+try:
+    listing = subprocess.run(["git", "-C", str(root), "ls-files"], capture_output=True, text=True)
+except OSError:  # no git (a minimal root): the files instead
+    listing = None
+if listing is not None and listing.returncode == 0:
     tracked = listing.stdout.split()
 else:
     tracked = [str(p.relative_to(root)) for p in root.rglob("*") if p.is_file()
