@@ -109,8 +109,7 @@ JobPlan plan_to_spectral(Settings s, const std::string& output, const OptionName
                        "the spectra" + of_model(p) + ", a light's or a surface's");
   else
     refuse_ineffective(plan, p.mode == ModeChoice::emission ? Mode::emission : Mode::reflectance,
-                       std::string(p.mode == ModeChoice::emission ? "emission" : "reflectance") +
-                           " spectra" + of_model(p));
+                       std::string(to_string(p.mode)) + " spectra" + of_model(p));
   return plan;
 }
 
@@ -189,12 +188,10 @@ JobPlan plan_colours(Settings settings, ColourSubject subject, const OptionNames
   // As for an image (classify/input_interpretation.h): a data space's values are not a colour.
   if (subject == ColourSubject::colours && plan.colorspace.facts->data)
     plan.warnings.push_back(data_space_warning(s.colorspace));
-  refuse_ineffective(
-      plan, s.spectral.mode,
-      subject == ColourSubject::table
-          ? a_mode(s.spectral.mode) + " table" + of_model(s)
-          : std::string(s.spectral.mode == Mode::emission ? "emission" : "reflectance") +
-                " spectra" + of_model(s));
+  refuse_ineffective(plan, s.spectral.mode,
+                     subject == ColourSubject::table
+                         ? a_mode(s.spectral.mode) + " table" + of_model(s)
+                         : std::string(to_string(s.spectral.mode)) + " spectra" + of_model(s));
   return plan;
 }
 
