@@ -28,7 +28,8 @@ std::string index_text(std::size_t flat, const std::vector<py::ssize_t>& shape) 
 
 }  // namespace
 
-FloatArray read_float_array(const py::handle& object, const std::string& name, std::size_t last) {
+FloatArray read_float_array(const py::handle& object, const std::string& name, std::size_t last,
+                            bool nonfinite_allowed) {
   py::array any = py::module_::import("numpy").attr("asarray")(object);
   const char kind = any.dtype().kind();
   if (kind != 'f')
@@ -53,6 +54,7 @@ FloatArray read_float_array(const py::handle& object, const std::string& name, s
   a.last = n_last;
   const auto size = static_cast<std::size_t>(a.array.size());
   a.rows = size / n_last;
+  if (nonfinite_allowed) return a;
   std::size_t bad = 0, first = 0;
   for (std::size_t i = 0; i < size; ++i)
     if (!std::isfinite(a.data[i]) && bad++ == 0) first = i;

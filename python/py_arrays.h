@@ -22,11 +22,11 @@ struct FloatArray {
 /// Reads `object` (an ndarray, or anything numpy.asarray takes) named `name` in messages
 /// ("spectra(): rgb: ..."): a floating-point dtype (else TypeError; integers are encoded data),
 /// at least one axis, a last axis of `last` (0: any, at least 1) (else ValueError), every value
-/// finite in float32 (else ValueError with the count and the first index). Any strides and
-/// dtypes are copied into C-ordered float32; float32 C-ordered arrays are used in place.
-/// Cost: O(size).
+/// finite in float32 unless `nonfinite_allowed` (else ValueError with the count and the first
+/// index). Any strides and dtypes are copied into C-ordered float32; float32 C-ordered arrays
+/// are used in place. Running out of memory raises MemoryError, as NumPy does. Cost: O(size).
 FloatArray read_float_array(const pybind11::handle& object, const std::string& name,
-                            std::size_t last);
+                            std::size_t last, bool nonfinite_allowed = false);
 
 /// Reads a 1-D array of wavelengths in nm (any integer or floating dtype) as float64, every
 /// value kept as given (never rounded to float32); TypeError for other dtypes, ValueError for

@@ -15,11 +15,22 @@
 #include <string>
 #include <vector>
 
+#include "py_arrays.h"
+#include "py_options.h"
+
 namespace py = pybind11;
 
 namespace spectralize::python {
 
 namespace {
+
+// `threads` as the settings schema reads it (0: all cores, at most 1024), the CLI's rule and
+// message: ValueError "function(): threads ...", TypeError for what is not a whole number.
+int threads_option(const std::string& function, const py::object& value) {
+  py::kwargs given;
+  given["threads"] = value;
+  return read_options(given, OptionScope{function, 0, {}, {"threads"}}).threads;
+}
 
 // A loaded table, shared by the Python object and any thread filling an array.
 class RtTable {
@@ -43,25 +54,26 @@ class RtTable {
 
   // The spectra of colours (..., 3) at the table's bands or at `wavelengths` (M,): (values
   // (..., M) float32, counts dict). Without the GIL, on `threads` threads (0: all cores).
-  py::tuple spectra(const py::handle& rgb, const py::object& wavelengths, int threads) const {
-    const auto colours = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(rgb);
-    if (!colours || colours.ndim() < 1 || colours.shape(colours.ndim() - 1) != 3)
-      throw py::value_error("rt.Table.spectra(): rgb: expected an array of shape (..., 3)");
+  py::tuple spectra(const py::handle& rgb, const py::object& wavelengths,
+                    const py::object& threads_given) const {
+    // The module's checks (py_arrays.h, the settings schema): NaN and infinities are counted,
+    // not refused, as a renderer's lookup counts them.
+    const FloatArray colours = read_float_array(rgb, "rt.Table.spectra(): rgb", 3, true);
+    const int threads = threads_option("rt.Table.spectra", threads_given);
     std::vector<float> nm;
     if (!wavelengths.is_none()) {
-      const auto w =
-          py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(wavelengths);
-      if (!w || w.ndim() != 1 || w.size() == 0)
-        throw py::value_error("rt.Table.spectra(): wavelengths: expected a 1-D array of nm");
-      nm.assign(w.data(), w.data() + w.size());
+      const std::vector<double> w =
+          read_wavelength_array(wavelengths, "rt.Table.spectra(): wavelengths");
+      if (w.empty()) throw py::value_error("rt.Table.spectra(): wavelengths: an empty array");
+      nm.assign(w.begin(), w.end());
     }
-    const std::size_t n = static_cast<std::size_t>(colours.size() / 3);
+    const std::size_t n = colours.rows;
     const std::size_t row = nm.empty() ? view().bands() : nm.size();
-    std::vector<py::ssize_t> shape(colours.shape(), colours.shape() + colours.ndim());
+    std::vector<py::ssize_t> shape = colours.shape;
     shape.back() = static_cast<py::ssize_t>(row);
     py::array_t<float> out(shape);
     float* dst = out.mutable_data();
-    const float* src = colours.data();
+    const float* src = colours.data;
     // OIIO's pool, as the module's other array functions: chunks of 4096 colours, each
     // counting into its own tally.
     std::array<std::atomic<std::size_t>, 4> counts{};
@@ -87,17 +99,16 @@ class RtTable {
   // The blends of colours (..., 3): each colour's spectrum as up to four rows of `samples`
   // and their weights (a light's scale folded in), the samples of those rows at the table's
   // bands, and the counts. What a renderer gathers from on its own arrays.
-  py::tuple blend(const py::handle& rgb, int threads) const {
-    const auto colours = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(rgb);
-    if (!colours || colours.ndim() < 1 || colours.shape(colours.ndim() - 1) != 3)
-      throw py::value_error("rt.Table.blend(): rgb: expected an array of shape (..., 3)");
-    const std::size_t n = static_cast<std::size_t>(colours.size() / 3);
+  py::tuple blend(const py::handle& rgb, const py::object& threads_given) const {
+    const FloatArray colours = read_float_array(rgb, "rt.Table.blend(): rgb", 3, true);
+    const int threads = threads_option("rt.Table.blend", threads_given);
+    const std::size_t n = colours.rows;
     const spz::TableView& t = view();
     const bool reflectance = t.reflectance();
     std::vector<std::uint32_t> vertex(4 * n);
     std::vector<float> weight(4 * n);
     std::array<std::atomic<std::size_t>, 4> counts{};
-    const float* src = colours.data();
+    const float* src = colours.data;
     {
       py::gil_scoped_release release;
       OIIO::parallel_for_chunked(
@@ -125,7 +136,7 @@ class RtTable {
     std::vector<std::uint32_t> distinct(vertex);
     std::sort(distinct.begin(), distinct.end());
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-    std::vector<py::ssize_t> shape(colours.shape(), colours.shape() + colours.ndim());
+    std::vector<py::ssize_t> shape = colours.shape;
     shape.back() = 4;
     py::array_t<std::uint32_t> rows(shape);
     py::array_t<float> weights(shape);
@@ -202,10 +213,11 @@ void add_rt_module(py::module_& m) {
            py::arg("wavelengths") = py::none(), py::arg("threads") = 0,
            "spectra(rgb, *, wavelengths=None, threads=0) -> (values, counts)\n\n"
            "The spectra of linear RGB colours (..., 3) of the table's colour space, any float\n"
-           "dtype: values (..., N) float32 at the table's N bands, or (..., M) at the M\n"
-           "wavelengths given (nm, 1-D). counts: how many colours were exact, mapped (into\n"
-           "the gamut), invalid (NaN, infinite: zero spectra) and negative (luminance below 0:\n"
-           "zero spectra). Without the GIL, on `threads` threads (0: all cores). Cost:\n"
+           "dtype (TypeError for integers, strings, complex numbers): values (..., N) float32\n"
+           "at the table's N bands, or (..., M) at the M wavelengths given (nm, 1-D). counts:\n"
+           "how many colours were exact, mapped (into the gamut), invalid (NaN, infinite: zero\n"
+           "spectra) and negative (luminance below 0: zero spectra). Without the GIL, on\n"
+           "`threads` threads (0: all cores; at most 1024, as the CLI's --threads). Cost:\n"
            "O(colours x N).")
       .def("blend", &RtTable::blend, py::arg("rgb"), py::kw_only(), py::arg("threads") = 0,
            "blend(rgb, *, threads=0) -> (rows, weights, samples, counts)\n\n"
@@ -216,7 +228,7 @@ void add_rt_module(py::module_& m) {
            "spectrum is sum(weights[k] * samples[rows[k]]), as spectra() gives it to float\n"
            "rounding (a reflectance clamped to 1). For renderers that gather spectra on\n"
            "their own arrays (spectralize.mitsuba). Without the GIL, on `threads` threads\n"
-           "(0: all cores). Cost: O(colours log colours + R x N).");
+           "(0: all cores; at most 1024). Cost: O(colours log colours + R x N).");
 }
 
 }  // namespace spectralize::python

@@ -426,6 +426,11 @@ std::pair<std::string, std::string> default_colour_space(const ColourSpaces& spa
         if (passed.empty()) passed = std::string(role) + ", '" + space + "', is a log encoding";
         continue;
       }
+      // The config's own choice: a space no colour converts through is its mistake.
+      if (const std::string& why = spaces.facts(space).unusable; !why.empty())
+        throw ConfigError("the OCIO config '" + spaces.origin() + "' gives its " + role +
+                          " role the colour space '" + space + "', which cannot be used: " + why +
+                          "; give --colorspace");
       return {space, std::string("the config's ") + role + " role" +
                          (passed.empty() || allow_log ? "" : " (its " + passed + ")")};
     }
@@ -508,8 +513,12 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
           role.second;
     }
   }
-  // Everything known of the space decided, passed on whole.
+  // Everything known of the space decided, passed on whole; one no colour converts through
+  // fails this file before any pixel is read.
   in.facts = &spaces.facts(in.colorspace);
+  if (!in.facts->unusable.empty())
+    throw Error(where + "colour space '" + in.colorspace + "' (" + in.colorspace_reason +
+                ") cannot be used: " + in.facts->unusable);
   // Data or colour: the words of the name and its folders, then a data colour space.
   in.name = map_kind_by_name(file, name_words_in_force(settings.data_names, settings.colour_names));
   resolve_by_channels(in.name, in.channels.grey());

@@ -163,6 +163,48 @@ CpuPtr exact_cpu_processor(const OCIO::ConstProcessorRcPtr& processor) {
                                              OCIO::OPTIMIZATION_LOSSLESS);
 }
 
+// Why no colour can be converted through a space whose conversion to CIE XYZ gives `mid` for
+// mid grey and `dirs` for each primary's direction from it and the white, or "": values that
+// are not finite, every colour the same XYZ (a zero matrix: all black), or directions that
+// are not independent (a singular matrix: different colours meet; their volume against the
+// product of their lengths below 1e-6, whatever the scale).
+std::string unusable_reason(const Xyz& mid, const Xyz (&dirs)[4]) {
+  auto text = [](const Xyz& c) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", c.X, c.Y, c.Z);
+    return std::string(buf);
+  };
+  const Xyz& white = dirs[3];
+  if (!white.finite())
+    return "its conversion to CIE XYZ gives NaN or infinity (RGB (1, 1, 1) -> XYZ " + text(white) +
+           ")";
+  if (!mid.finite())
+    return "its conversion to CIE XYZ gives NaN or infinity (RGB (0.5, 0.5, 0.5) -> XYZ " +
+           text(mid) + ")";
+  for (int k = 0; k < 3; ++k)
+    if (!dirs[k].finite())
+      return "its conversion to CIE XYZ gives NaN or infinity (for the " +
+             std::string(k == 0   ? "red"
+                         : k == 1 ? "green"
+                                  : "blue") +
+             " primary)";
+  double length = 1;
+  bool constant = true;
+  for (int k = 0; k < 3; ++k) {
+    length *= std::sqrt(dot(dirs[k], dirs[k]));
+    constant = constant && dirs[k].max_abs() == 0;
+  }
+  if (constant)
+    return white.max_abs() == 0
+               ? "its conversion to CIE XYZ makes every colour black (XYZ 0)"
+               : "its conversion to CIE XYZ gives every colour the same XYZ " + text(white);
+  const double volume = std::abs(dot(dirs[0], cross(dirs[1], dirs[2])));
+  if (!(volume > 1e-6 * length))
+    return "its conversion to CIE XYZ is singular: its primaries are not independent, so "
+           "different colours become the same XYZ";
+  return "";
+}
+
 }  // namespace
 
 void ColourTransform::apply(float* rgb, std::size_t pixels) const {
@@ -364,10 +406,12 @@ std::vector<std::string> ColourSpaces::describe() const {
 }
 
 ColourTransform ColourSpaces::to_xyz(std::string_view space) const {
+  usable(space);
   return transform(space, true);
 }
 
 ColourTransform ColourSpaces::from_xyz(std::string_view space) const {
+  usable(space);
   return transform(space, false);
 }
 
@@ -495,7 +539,15 @@ std::pair<std::string, std::string> ColourSpaces::file_rule(const std::string& p
 
 NamedSpace ColourSpaces::named(std::string_view given) const {
   if (given.empty()) return {};
-  return {std::string(given), &facts(given)};
+  return {std::string(given), &usable(given)};
+}
+
+const ColourSpaceFacts& ColourSpaces::usable(std::string_view space) const {
+  const ColourSpaceFacts& f = facts(space);
+  if (!f.unusable.empty())
+    throw Error("colour space " + quote(f.name) + " of the OCIO config '" + origin_ +
+                "' cannot be used: " + f.unusable);
+  return f;
 }
 
 const ColourSpaceFacts& ColourSpaces::facts(std::string_view space) const {
@@ -523,7 +575,7 @@ ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
     f.interop_id = "data";
     return f;
   }
-  const ColourTransform t = to_xyz(space);
+  const ColourTransform t = transform(space, true);
   f.white = t(1, 1, 1);
   // The unit colours as columns: the matrix of a linear space, and the primaries' directions
   // of any space whose curve keeps 0 and 1 (sRGB, a gamma).
@@ -543,6 +595,8 @@ ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
   // times c(1) - c(g) for any per-channel curve c (also a log curve, where c(0) is not 0).
   const Xyz mid = t(0.5, 0.5, 0.5);
   const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid, f.white};
+  f.unusable = unusable_reason(mid, dirs);
+  if (!f.unusable.empty()) return f;
   std::array<float, 8> xy{};
   bool primaries = true;
   for (int k = 0; k < 4; ++k) {

@@ -58,6 +58,9 @@ struct ColourSpaceFacts {
   // (ACEScg: the ACES white), else primaries_d65.
   std::optional<std::array<float, 8>> chromaticities;
   std::optional<IccTransfer> transfer;  // linear, the sRGB curve or a pure gamma, if one
+  // Why no colour can be converted through the space ("" when one can): its conversion to CIE
+  // XYZ gives NaN or infinity, the same XYZ for every colour, or is singular (docs/DESIGN.md §9).
+  std::string unusable;
 };
 
 /// A colour space a user named (an option or a keyword), resolved once: the name as given and
@@ -112,8 +115,13 @@ class ColourSpaces {
   /// the default rule matches. Cost: O(rules).
   std::pair<std::string, std::string> file_rule(const std::string& path) const;
   /// `given` (a name, alias or role) resolved with what is known of it; an empty NamedSpace
-  /// for "". Throws Error listing the valid names. Cost: facts().
+  /// for "". Throws Error listing the valid names, or as usable() for a space no colour can be
+  /// converted through. Cost: facts().
   NamedSpace named(std::string_view given) const;
+  /// The facts of a space colours can be converted through: throws Error "colour space 'NAME'
+  /// cannot be used: REASON" when facts().unusable says why not (never for data, whose values
+  /// are taken as they are). Cost: facts().
+  const ColourSpaceFacts& usable(std::string_view space) const;
   /// Everything known of a space (by name, alias or role), gathered the first time any copy of
   /// this ColourSpaces asks; the reference stays valid while one does. Throws Error for an
   /// unknown space. Cost: one OCIO processor and ~20 colours the first time, O(log spaces) after.
@@ -156,7 +164,8 @@ class ColourSpaces {
   /// A converter from `space` to CIE-XYZ-D65: to the config's XYZ space (the
   /// cie_xyz_d65_interchange role, or a space of a known name), else to its ACES2065-1 space and
   /// on by OCIO's built-in Bradford transform (classic v1 ACES configs); throws Error for unknown
-  /// spaces or configs without any of them. Cost: OCIO processor build, ~ms (cached by OCIO).
+  /// spaces or configs without any of them, and as usable() for a space no colour can be
+  /// converted through. Cost: OCIO processor build, ~ms (cached by OCIO).
   ColourTransform to_xyz(std::string_view space) const;
   /// A converter from CIE-XYZ-D65 to `space`; throws Error as to_xyz. Cost: as to_xyz.
   ColourTransform from_xyz(std::string_view space) const;
@@ -168,6 +177,7 @@ class ColourSpaces {
   std::string display_colour_space(const std::string& display, const std::string& view) const;
 
  private:
+  // The conversion as OCIO makes it, unchecked (gather_facts measures it).
   ColourTransform transform(std::string_view space, bool to_xyz) const;
   ColourSpaceFacts gather_facts(const std::string& space) const;
   std::shared_ptr<const void> config_;       // OCIO::ConstConfigRcPtr, type-erased

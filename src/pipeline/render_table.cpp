@@ -3,9 +3,11 @@
 #include <OpenImageIO/parallel.h>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "classify/input_interpretation.h"
@@ -45,6 +47,35 @@ std::array<double, 2> chromaticity_of_column(const Mat3& m, int c) {
   return {m[c] / sum, m[3 + c] / sum};
 }
 
+double renderer_primaries_difference(const ColourSpaceFacts& space, const Mat3& renderer) {
+  if (!space.primaries_d65) return INFINITY;
+  std::array<float, 8> given{};
+  for (int c = 0; c < 3; ++c) {
+    const auto xy = chromaticity_of_column(renderer, c);
+    given[2 * c] = static_cast<float>(xy[0]);
+    given[2 * c + 1] = static_cast<float>(xy[1]);
+  }
+  const Xyz white = mul(renderer, Xyz{1, 1, 1});
+  given[6] = static_cast<float>(white.X / white.sum());
+  given[7] = static_cast<float>(white.Y / white.sum());
+  // The space's own primaries as its standard states them (ACES: AP0, AP1 with the ACES
+  // white), the white free: a renderer's white comes from its own illuminant data.
+  double own = INFINITY;
+  if (space.chromaticities) {
+    own = 0;
+    for (int k = 0; k < 6; ++k)
+      own = std::max(own, std::abs(static_cast<double>(given[k]) - (*space.chromaticities)[k]));
+  }
+  // Else both adapted to D65 as a config adapts its spaces (Bradford): a space no standard
+  // names, given with its own white (DCI-P3 with the DCI white), or as the config sees it.
+  const std::array<float, 8> a = adapt_chromaticities_to_d65(given.data());
+  const std::array<float, 8> b = adapt_chromaticities_to_d65(space.primaries_d65->data());
+  double adapted = 0;
+  for (int k = 0; k < 6; ++k)
+    adapted = std::max(adapted, std::abs(static_cast<double>(a[k]) - b[k]));
+  return std::min(own, adapted);
+}
+
 JobPlan plan_table(Settings settings, const std::string& output, const OptionNames& names) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -72,19 +103,19 @@ JobPlan plan_table(Settings settings, const std::string& output, const OptionNam
                      : ": use " + quote(linear) + ", the linear space with its primaries"));
   }
   if (!s.rgb_to_xyz.empty()) {
-    // A renderer's matrix is for the space the table is named after: the same primaries (the
-    // white may differ by the renderer's illuminant data, the primaries' chromaticities not).
+    // A renderer's matrix is for the space the table is named after: the same primaries.
     const Mat3 r = renderer_matrix(s);
-    double worst = 0;
-    for (int c = 0; c < 3; ++c) {
-      const auto mine = chromaticity_of_column(*m, c), given = chromaticity_of_column(r, c);
-      worst = std::max({worst, std::abs(mine[0] - given[0]), std::abs(mine[1] - given[1])});
-    }
-    if (!(worst <= kPrimariesTolerance))
+    const double worst = renderer_primaries_difference(facts, r);
+    if (!(worst <= kPrimariesTolerance)) {
+      const auto& own = facts.chromaticities ? *facts.chromaticities : std::array<float, 8>{};
       throw Error(names("rgb_to_xyz") + " '" + clip(s.rgb_to_xyz) +
                   "': its primaries are not those of " + quote(s.colorspace) +
-                  " (a chromaticity differs by " + fmt::format("{:.3g}", worst) +
+                  fmt::format(" (red {:.4g},{:.4g}, green {:.4g},{:.4g}, blue {:.4g},{:.4g}, "
+                              "white {:.4g},{:.4g}; a chromaticity differs by {:.3g}",
+                              own[0], own[1], own[2], own[3], own[4], own[5], own[6], own[7],
+                              worst) +
                   "); name the space it is for with " + names("colorspace"));
+    }
   }
   return plan;
 }

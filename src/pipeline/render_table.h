@@ -42,6 +42,15 @@ std::array<double, 2> chromaticity_of_column(const Mat3& m, int c);
 /// the table is named after: 1e-3 holds every published rounding of a space's primaries.
 inline constexpr double kPrimariesTolerance = 1e-3;
 
+/// How far a renderer's matrix (its columns the primaries, its row sums the white) is from
+/// being for `space`: the largest difference of a primary's x or y, the smaller of two
+/// comparisons on the space's own terms (docs/DESIGN.md §14): with the primaries its standard
+/// states (ACES2065-1: AP0; ACEScg: AP1), the white free (a renderer's comes from its own
+/// illuminant data); and both adapted to D65 by Bradford from their own whites, as configs
+/// adapt (a space no standard names, DCI-P3 with the DCI white). INFINITY for a space without
+/// primaries. Cost: O(1).
+double renderer_primaries_difference(const ColourSpaceFacts& space, const Mat3& renderer);
+
 /// Table settings: an output named .spztab, the config loads, the colour space (default: the
 /// config's scene_linear role) exists and is linear RGB (an encoded or log space is refused,
 /// naming the linear space with its primaries when the config has one: renderers decode and

@@ -142,3 +142,29 @@ def test_a_setting_that_shapes_nothing_is_refused(sp, tmp_path):
     # A surface's illuminant for an image whose mode is decided from the file: it may shape it.
     sp.convert(png, str(tmp_path / "o.exr"), illuminant="A")
     assert os.path.exists(tmp_path / "o.exr")
+
+
+def test_a_space_no_colour_converts_through_is_refused_by_every_function(sp, tmp_path):
+    """A config space whose matrix is zero: every function refuses it before converting,
+    naming the space and the reason (as the CLI does with exit 2), and writes nothing."""
+    shipped = (IMAGES.parent / "ocio_configs" / "spectralize.ocio").read_text()
+    config = tmp_path / "broken.ocio"
+    config.write_text(shipped + "\n  - !<ColorSpace>\n    name: Zero\n    isdata: false\n"
+                      "    to_scene_reference: !<MatrixTransform> {matrix: "
+                      "[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1]}\n")
+    opts = {"config": str(config), "colorspace": "Zero"}
+    refused = r"colorspace: colour space 'Zero' .* cannot be used: its conversion to CIE XYZ makes every colour black"
+    wl, values = sp.spectra(np.full((2, 3), 0.3))
+    src = str(IMAGES / "colorchecker_srgb8.png")
+    calls = {
+        "spectra": lambda: sp.spectra([0.2, 0.3, 0.4], **opts),
+        "to_rgb": lambda: sp.to_rgb(values, wl, **opts),
+        "convert": lambda: sp.convert(src, str(tmp_path / "a.exr"), **opts),
+        "ingest": lambda: sp.ingest([src], str(tmp_path / "dst"), **opts),
+        "table": lambda: sp.table(str(tmp_path / "t.spztab"), **opts),
+        "read_rgb": lambda: sp.read_rgb(src, **opts),
+    }
+    for name, call in calls.items():
+        with pytest.raises(ValueError, match=refused):
+            call()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.ocio"]

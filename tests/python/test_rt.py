@@ -108,3 +108,50 @@ def test_the_docstrings_say_the_options(sp):
     doc = sp.rt.Table.spectra.__doc__
     for word in ("rgb", "wavelengths", "threads", "counts", "Cost"):
         assert word in doc
+
+
+class _OutOfMemory:
+    """An array-like whose conversion runs out of memory, as a huge list can."""
+
+    def __array__(self, *args, **kwargs):
+        raise MemoryError("no room for the array")
+
+
+@pytest.mark.parametrize("method", ["spectra", "blend"])
+def test_bad_arguments_get_the_modules_and_the_clis_rules(srgb_table, method):
+    """The rules of spectralize.spectra() and of the CLI's --threads, each with its own
+    message: never parsed as numbers, never truncated, never silently accepted."""
+    call = getattr(srgb_table, method)
+    where = r"rt\.Table\.%s\(\): " % method
+    with pytest.raises(TypeError, match=where + r"rgb: dtype <U3 is not floating point"):
+        call(np.array([["0.1", "0.2", "0.3"]]))
+    with pytest.raises(TypeError, match=where + r"rgb: dtype complex128 is not floating point"):
+        call(np.array([[0.1 + 1j, 0.2, 0.3]]))
+    with pytest.raises(TypeError, match=where + r"rgb: dtype int64 is not floating point"):
+        call(np.array([[1, 0, 0]], dtype=np.int64))
+    with pytest.raises(ValueError, match=where + r"rgb: shape \(2, 4\): the last axis must have 3"):
+        call(np.zeros((2, 4)))
+    with pytest.raises(MemoryError, match="no room for the array"):
+        call(_OutOfMemory())
+    for threads in (-1, -100, 10 ** 6, 1025):
+        with pytest.raises(ValueError, match=r"rt\.Table\.%s\(\): threads: '%d'" % (method, threads)):
+            call(np.full((2, 3), 0.3), threads=threads)
+    with pytest.raises(TypeError, match=r"threads: expected a string or a number, got a bool"):
+        call(np.full((2, 3), 0.3), threads=True)
+    with pytest.raises(ValueError, match=r"threads: '1.5'"):
+        call(np.full((2, 3), 0.3), threads=1.5)
+    # The bounds themselves are fine; NaN is counted, not refused (a renderer's lookup).
+    for threads in (0, 1, 1024):
+        assert call(np.array([[0.3, 0.3, 0.3], [np.nan, 0, 0]]), threads=threads)[-1]["invalid"] == 1
+
+
+def test_bad_wavelengths_are_refused_naming_them(srgb_table):
+    rgb = np.full((2, 3), 0.3)
+    with pytest.raises(TypeError, match=r"rt\.Table\.spectra\(\): wavelengths: dtype <U3 is not a number"):
+        srgb_table.spectra(rgb, wavelengths=np.array(["500"]))
+    with pytest.raises(TypeError, match=r"wavelengths: dtype complex128 is not a number"):
+        srgb_table.spectra(rgb, wavelengths=np.array([500 + 1j]))
+    with pytest.raises(ValueError, match=r"wavelengths: expected a 1-D array"):
+        srgb_table.spectra(rgb, wavelengths=np.zeros((2, 2)))
+    with pytest.raises(ValueError, match=r"wavelengths: an empty array"):
+        srgb_table.spectra(rgb, wavelengths=np.zeros(0))

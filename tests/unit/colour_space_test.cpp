@@ -76,6 +76,73 @@ TEST(ColourSpace, FactsMeasureTheMatrixTheWhiteAndOneMeaningOfLinear) {
   }
 }
 
+// A config's spaces whose conversion to CIE XYZ carries no colour: a zero matrix (all black),
+// a NaN in the matrix, a rank-1 matrix (every colour grey), a tiny scale that stays usable.
+std::string broken_spaces_config() {
+  auto space = [](const std::string& name, const std::string& matrix) {
+    return "  - !<ColorSpace>\n    name: " + name +
+           "\n    isdata: false\n    to_scene_reference: !<MatrixTransform> {matrix: [" + matrix +
+           ", 0, 0, 0, 1]}\n";
+  };
+  return "ocio_profile_version: 2\nroles:\n  scene_linear: XYZ\n  default: XYZ\n"
+         "  cie_xyz_d65_interchange: XYZ\n  data: Raw\n"
+         "displays:\n  sRGB:\n    - !<View> {name: Raw, colorspace: Raw}\ncolorspaces:\n"
+         "  - !<ColorSpace>\n    name: XYZ\n    isdata: false\n"
+         "  - !<ColorSpace>\n    name: Raw\n    isdata: true\n" +
+         space("Zero", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0") +
+         space("NaNs", ".nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0") +
+         space("Grey", "0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0") +
+         space("Dim", "1e-5, 0, 0, 0, 0, 1e-5, 0, 0, 0, 0, 1e-5, 0");
+}
+
+// Every way to a conversion refuses a space no colour converts through, naming it and why:
+// named() (what the planner resolves), to_xyz() and from_xyz() (every converter); data and a
+// dim but invertible space stay usable.
+TEST(ColourSpace, ASpaceNoColourConvertsThroughIsRefusedBeforeAnyConversion) {
+  test::TempDir t("colour_space");
+  std::ofstream(t / "broken.ocio") << broken_spaces_config();
+  const ColourSpaces spaces = ColourSpaces::load(t / "broken.ocio");
+  const std::pair<std::string, std::string> broken[] = {
+      {"Zero", "makes every colour black"}, {"NaNs", "NaN or infinity"}, {"Grey", "singular"}};
+  for (const auto& [name, why] : broken) {
+    SCOPED_TRACE(name);
+    EXPECT_NE(spaces.facts(name).unusable.find(why), std::string::npos)
+        << spaces.facts(name).unusable;
+    for (const std::string& msg : {test::error_message([&] { spaces.named(name); }),
+                                   test::error_message([&] { spaces.to_xyz(name); }),
+                                   test::error_message([&] { spaces.from_xyz(name); })}) {
+      EXPECT_NE(msg.find("colour space '" + name + "'"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("cannot be used: "), std::string::npos) << msg;
+      EXPECT_NE(msg.find(why), std::string::npos) << msg;
+    }
+  }
+  for (const char* fine : {"XYZ", "Raw", "Dim"}) {
+    SCOPED_TRACE(fine);
+    EXPECT_EQ(spaces.facts(fine).unusable, "");
+    EXPECT_NO_THROW(spaces.named(fine));
+    EXPECT_NO_THROW(spaces.to_xyz(fine));
+  }
+}
+
+// The configs users point spectralize at have no such space: the shipped one, the ACES CG
+// config, and OCIO's built-in configs where this OCIO has them.
+TEST(ColourSpace, EverySpaceOfRealConfigsIsUsable) {
+  std::vector<std::string> configs = {"", kAcesConfig};
+  if (OCIO_VERSION_HEX >= 0x02020000)
+    configs.insert(configs.end(), {"ocio://cg-config-latest", "ocio://studio-config-latest"});
+  for (const std::string& config : configs) {
+    const ColourSpaces spaces = ColourSpaces::load(config);
+    for (const std::string& name : spaces.names()) {
+      SCOPED_TRACE(config + ": " + name);
+      try {
+        EXPECT_EQ(spaces.facts(name).unusable, "");
+      } catch (const Error& e) {  // a space OCIO cannot convert at all says so itself
+        ADD_FAILURE() << e.what();
+      }
+    }
+  }
+}
+
 TEST(ColourSpace, InteropIdsSayDisplayReferred) {
   const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
   EXPECT_TRUE(aces.is_display_referred("sRGB - Display"));

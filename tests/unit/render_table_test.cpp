@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -337,6 +338,84 @@ TEST(RenderTable, ARenderersMatrixAndIlluminantAreReproducedAsTheRendererIntegra
       double m2[9];
       std::memcpy(m2, v2.header().rgb_to_target, sizeof m2);
       EXPECT_GT(std::abs(m2[0] - m[0][0]), 1e-3);
+    }
+  }
+}
+
+// A config of two DCI-P3 spaces (P3 primaries, the DCI white 0.314, 0.351): one adapted to D65
+// by Bradford as configs adapt, one whose white stays DCI; the matrices from test_support.h.
+std::string dci_p3_config() {
+  const test::Mat3 npm = test::rgb_to_xyz(0.680, 0.320, 0.265, 0.690, 0.150, 0.060, 0.314, 0.351);
+  const test::Mat3 adapted =
+      test::matmul(test::bradford(test::xyz_from_xy(0.314, 0.351), test::d65_white()), npm);
+  auto matrix = [](const test::Mat3& m) {
+    return fmt::format(
+        "[{:.12g}, {:.12g}, {:.12g}, 0, {:.12g}, {:.12g}, {:.12g}, 0, {:.12g}, "
+        "{:.12g}, {:.12g}, 0, 0, 0, 0, 1]",
+        m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+  };
+  return "ocio_profile_version: 2\n"
+         "roles:\n  scene_linear: P3-DCI adapted\n  default: P3-DCI adapted\n"
+         "  cie_xyz_d65_interchange: XYZ\n"
+         "displays:\n  sRGB:\n    - !<View> {name: Raw, colorspace: XYZ}\n"
+         "colorspaces:\n"
+         "  - !<ColorSpace>\n    name: XYZ\n    isdata: false\n"
+         "  - !<ColorSpace>\n    name: P3-DCI adapted\n    isdata: false\n"
+         "    to_scene_reference: !<MatrixTransform> {matrix: " +
+         matrix(adapted) +
+         "}\n"
+         "  - !<ColorSpace>\n    name: P3-DCI unadapted\n    isdata: false\n"
+         "    to_scene_reference: !<MatrixTransform> {matrix: " +
+         matrix(npm) + "}\n";
+}
+
+// A renderer's matrix is compared with the space on the space's own terms: a standard's own
+// primaries and white (AP0 and AP1 with the ACES white, as pbrt-v4 builds ACES2065-1) are
+// accepted, as is the config's D65-adapted view; a space no standard names is compared after
+// adapting both whites to D65. Oracle: the published primaries and Bradford in test_support.h.
+TEST(RenderTable, ARenderersPrimariesAreComparedOnTheSpacesOwnTerms) {
+  auto nine = [](const test::Mat3& m) {
+    return fmt::format("{},{},{},{},{},{},{},{},{}", m[0][0], m[0][1], m[0][2], m[1][0], m[1][1],
+                       m[1][2], m[2][0], m[2][1], m[2][2]);
+  };
+  const test::Mat3 ap0 =
+      test::rgb_to_xyz(0.7347, 0.2653, 0.0, 1.0, 0.0001, -0.077, 0.32168, 0.33767);
+  test::TempDir t("render_table");
+  const std::string dci = t / "dci.ocio";
+  std::ofstream(dci) << dci_p3_config();
+  const test::Mat3 p3_dci =
+      test::rgb_to_xyz(0.680, 0.320, 0.265, 0.690, 0.150, 0.060, 0.314, 0.351);
+  const struct {
+    std::string config, space, matrix;
+    bool accepted;
+  } cases[] = {
+      {"", "ACES2065-1", "0.7347,0.2653,0.0,1.0,0.0001,-0.077,D60", true},
+      {"", "ACES2065-1", nine(ap0), true},                          // the textbook AP0 matrix
+      {"", "ACES2065-1", nine(test::aces2065_to_xyz_d65()), true},  // the config's own view
+      {"", "ACEScg", "0.713,0.293,0.165,0.830,0.128,0.044,D60", true},
+      {"", "Linear Rec.2020", "0.708,0.292,0.170,0.797,0.131,0.046,D65", true},
+      {"", "Linear P3-D65", "0.680,0.320,0.265,0.690,0.150,0.060,D65", true},
+      {dci, "P3-DCI adapted", nine(p3_dci), true},
+      {dci, "P3-DCI unadapted", nine(p3_dci), true},
+      // Other primaries: refused.
+      {"", "ACES2065-1", "0.713,0.293,0.165,0.830,0.128,0.044,D60", false},
+      {"", "ACEScg", "0.7347,0.2653,0.0,1.0,0.0001,-0.077,D60", false},
+      {"", "Linear P3-D65", "0.708,0.292,0.170,0.797,0.131,0.046,D65", false},
+      // P3 primaries with D65 white are another space than the DCI-white one a config adapts.
+      {dci, "P3-DCI adapted", "0.680,0.320,0.265,0.690,0.150,0.060,D65", false},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.space + " " + c.matrix);
+    Settings s;
+    s.config = c.config;
+    s.colorspace = c.space;
+    s.rgb_to_xyz = c.matrix;
+    const std::string msg = message_of([&] { plan_table(s, "r.spztab", kFlags); });
+    if (c.accepted) {
+      EXPECT_EQ(msg, "");
+    } else {
+      EXPECT_NE(msg.find("--rgb-to-xyz"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("not those of '" + c.space + "'"), std::string::npos) << msg;
     }
   }
 }

@@ -1,0 +1,135 @@
+// Colour spaces are checked once, the same way, by every front end (docs/guide/colours.md): a
+// space of the config no colour converts through (a zero matrix, a NaN in it, a singular one)
+// is refused before anything is converted or written, naming the space and the reason: exit 2
+// where the command line names it, a failure of the file where the config's file rules or
+// roles choose it. Reports and manifests carry the decided space's interop ID and encoding.
+// Oracles: the configs written here (what each space's matrix is), the files left behind.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "cli_support.h"
+
+namespace fs = std::filesystem;
+using e2e::run;
+using Json = nlohmann::json;
+
+namespace {
+
+const std::string kImages = SPECTRALIZE_SOURCE_DIR "/testimages/";
+const std::string kShipped = SPECTRALIZE_SOURCE_DIR "/ocio_configs/spectralize.ocio";
+const std::string kPluginEnv = "OIIO_LIBRARY_PATH=" SPECTRALIZE_PLUGIN_DIR " " SPECTRALIZE_TOOL_ENV;
+
+// The shipped config plus three spaces no colour converts through, a file rule that gives
+// files named *_broken* the first, and (with `role`) the scene_linear role naming it.
+std::string broken_config(bool role) {
+  std::string text = e2e::slurp(kShipped);
+  text = std::regex_replace(text, std::regex("(file_rules:\n)"),
+                            "$1  - !<Rule> {name: Broken, colorspace: Zero, pattern: "
+                            "\"*_broken*\", extension: \"*\"}\n");
+  if (role)
+    text = std::regex_replace(text, std::regex("scene_linear: [^\n]*"), "scene_linear: Zero");
+  auto space = [](const std::string& name, const std::string& matrix) {
+    return "\n  - !<ColorSpace>\n    name: " + name +
+           "\n    isdata: false\n    to_scene_reference: !<MatrixTransform> {matrix: [" + matrix +
+           ", 0, 0, 0, 1]}\n";
+  };
+  return text + space("Zero", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0") +
+         space("NaNs", ".nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0") +
+         space("Grey", "0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0");
+}
+
+const std::pair<std::string, std::string> kBroken[] = {
+    {"Zero", "makes every colour black"}, {"NaNs", "NaN or infinity"}, {"Grey", "singular"}};
+
+void expect_refusal(const e2e::Run& r, int exit_code, const std::string& space,
+                    const std::string& why) {
+  EXPECT_EQ(r.exit_code, exit_code) << r.err;
+  EXPECT_NE(r.err.find("colour space '" + space + "'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cannot be used"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+}
+
+TEST(ColourSpaceChecks, EveryCommandRefusesASpaceNoColourConvertsThroughBeforeAnyWork) {
+  e2e::Scratch s("spaces");
+  const std::string config = s.write("broken.ocio", broken_config(false));
+  const std::string cfg = " --config " + config;
+  const std::string spectral = s / "ok.exr";
+  ASSERT_EQ(run(kImages + "colorchecker_srgb8.png -o " + spectral + cfg + " -q").exit_code, 0);
+  fs::create_directories(s / "lib");
+  fs::copy_file(kImages + "colorchecker_srgb8.png", s / "lib/a.png");
+  for (const auto& [space, why] : kBroken) {
+    SCOPED_TRACE(space);
+    const std::string named = cfg + " --colorspace " + space;
+    // --color: nothing printed.
+    e2e::Run r = run("--color 0.5,0.4,0.3" + named);
+    expect_refusal(r, 2, space, why);
+    EXPECT_EQ(r.out, "");
+    // An image, --to-rgb, a table, ingest: nothing written.
+    expect_refusal(run(kImages + "colorchecker_srgb8.png -o " + (s / "x.exr") + named), 2, space,
+                   why);
+    expect_refusal(run("--to-rgb " + spectral + " -o " + (s / "y.exr") + named), 2, space, why);
+    expect_refusal(run("table -o " + (s / "t.spztab") + named), 2, space, why);
+    expect_refusal(run("ingest " + (s / "lib") + " -o " + (s / "dst") + named), 2, space, why);
+    // The preview's space is converted to as well.
+    expect_refusal(run(kImages + "colorchecker_srgb8.png -o " + (s / "x.exr") + cfg +
+                       " --preview-colorspace " + space),
+                   2, space, why);
+    for (const char* left : {"x.exr", "y.exr", "t.spztab", "dst"})
+      EXPECT_FALSE(fs::exists(s / left)) << left;
+  }
+}
+
+TEST(ColourSpaceChecks, ASpaceTheConfigChoosesFailsTheFileItIsChosenFor) {
+  e2e::Scratch s("spaces");
+  const std::string config = s.write("broken.ocio", broken_config(false));
+  fs::create_directories(s / "lib");
+  fs::copy_file(kImages + "colorchecker_srgb8.png", s / "lib/a_broken.png");
+  fs::copy_file(kImages + "colorchecker_srgb8.png", s / "lib/b.png");
+  // The image command: the job fails (1), naming the file, the space and the rule.
+  e2e::Run r = run((s / "lib/a_broken.png") + " -o " + (s / "x.exr") + " --config " + config);
+  expect_refusal(r, 1, "Zero", "makes every colour black");
+  EXPECT_NE(r.err.find("a_broken.png"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("file rule 'Broken'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s / "x.exr"));
+  // A batch: that file fails, the other is converted.
+  r = run("ingest " + (s / "lib") + " -o " + (s / "dst") + " --config " + config);
+  expect_refusal(r, 1, "Zero", "makes every colour black");
+  EXPECT_TRUE(fs::exists(s / "dst/b.exr"));
+  EXPECT_FALSE(fs::exists(s / "dst/a_broken.exr"));
+  // A role naming such a space: the config is at fault (1), for every command that uses it.
+  const std::string role = s.write("role.ocio", broken_config(true));
+  for (const std::string& args :
+       {std::string("--color 1,1,1"), kImages + "hdri_sunset_256x128.exr -o " + (s / "y.exr")}) {
+    SCOPED_TRACE(args);
+    r = run(args + " --config " + role);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("scene_linear role the colour space 'Zero'"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+  EXPECT_FALSE(fs::exists(s / "y.exr"));
+}
+
+TEST(ColourSpaceChecks, ThePluginRefusesASpaceNoColourConvertsThrough) {
+  e2e::Scratch s("spaces");
+  const std::string config = s.write("broken.ocio", broken_config(false));
+  const std::string recipe = s.write("a.spectral", "{\"source\": \"" + kImages +
+                                                       "colorchecker_srgb8.png\", \"config\": \"" +
+                                                       config + "\", \"colorspace\": \"NaNs\"}");
+  const std::string cmd = kPluginEnv + " oiiotool " + recipe + " -o " + (s / "o.exr") + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = ::pclose(p);
+  EXPECT_NE(WEXITSTATUS(status), 0) << out;
+  EXPECT_NE(out.find("colour space 'NaNs'"), std::string::npos) << out;
+  EXPECT_NE(out.find("NaN or infinity"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(s / "o.exr"));
+}
+
+}  // namespace
