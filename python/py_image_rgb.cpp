@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "imagefile/image_reader.h"
+#include "pipeline/image_report.h"
 #include "pipeline/job_plan.h"
 #include "py_options.h"
 #include "spectralize/core/error.h"
@@ -101,6 +102,11 @@ py::tuple read_rgb(const py::object& path, const py::kwargs& options) {
   py::dict info;
   info["colorspace"] = how.colorspace;
   info["colorspace_reason"] = how.colorspace_reason;
+  const SpaceIdentity identity = SpaceIdentity::of(*how.facts);
+  auto text = [](const std::string& v) { return v.empty() ? py::object(py::none()) : py::str(v); };
+  info["colorspace_interop_id"] = text(identity.interop_id);
+  info["colorspace_interop_id_source"] = text(identity.interop_id_source);
+  info["colorspace_encoding"] = text(identity.encoding);
   info["linear_colorspace"] = twin;
   info["mode"] = decided.settings.spectral.mode == Mode::emission ? "emission" : "reflectance";
   info["mode_reason"] = how.mode_reason;
@@ -117,7 +123,8 @@ void add_image_rgb(py::module_& m) {
          "space by the CLI's rules (colorspace= when given, else the file's own tags, the\n"
          "config's file rules, the format's convention, the config's roles), converted\n"
          "through OCIO into the linear scene-referred space of the same primaries: rgb\n"
-         "(height, width, 3) float32, row 0 at the top. info: colorspace and its reason,\n"
+         "(height, width, 3) float32, row 0 at the top. info: colorspace and its reason, its\n"
+         "interop ID (with its source: config or measured) and encoding (None where unknown),\n"
          "linear_colorspace (the space of rgb), mode and its reason, warnings. A data map\n"
          "(by its name or colour space) raises ValueError, an unreadable file OSError.\n"
          "What renderer plugins uplift at render time (spectralize.mitsuba). Cost: reading\n"

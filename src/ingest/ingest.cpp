@@ -88,6 +88,7 @@ void recorded_decision(Json& r, ExrHeaderValues& recorded, const std::string& in
                        const OptionNames& names) {
   r["colorspace"] = recorded.strings["spectralize:colorspace"];
   r["colorspace_reason"] = recorded.strings["spectralize:colorspaceReason"];
+  r.update(identity_record(identity_from_attributes(recorded.strings)));
   r["mode"] = recorded.strings["spectralize:mode"];
   r["mode_reason"] = recorded.strings["spectralize:modeReason"];
   const std::vector<std::string> warnings =
@@ -151,9 +152,17 @@ struct Batch {
 
 // The fields of a converted file's record, as its report has them (pipeline/image_report.h),
 // in the manifest's order; "warnings" follows when there are any.
-constexpr std::array<const char*, 8> kConvertedFields{
-    "colorspace", "colorspace_reason",   "mode",           "mode_reason",
-    "pixels",     "out_of_gamut_pixels", "invalid_pixels", "max_relative_xyz_error"};
+constexpr std::array<const char*, 11> kConvertedFields{"colorspace",
+                                                       "colorspace_reason",
+                                                       "colorspace_interop_id",
+                                                       "colorspace_interop_id_source",
+                                                       "colorspace_encoding",
+                                                       "mode",
+                                                       "mode_reason",
+                                                       "pixels",
+                                                       "out_of_gamut_pixels",
+                                                       "invalid_pixels",
+                                                       "max_relative_xyz_error"};
 
 // One file of a batch, taken through its steps in order: its source is converted (derived),
 // non-colour data (skipped or copied), up to date, converted, or failed. Each step that

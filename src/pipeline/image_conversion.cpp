@@ -52,6 +52,7 @@ ImageConversion::ImageConversion(const JobPlan& plan, const OIIO::ImageSpec& spe
   for (const std::string& w : in.warnings) warn(w);
   rep.colorspace = in.colorspace;
   rep.colorspace_reason = in.colorspace_reason;
+  rep.colorspace_identity = SpaceIdentity::of(*in.facts);
   rep.mode_reason = in.mode_reason;
   rep.alpha = in.channels.alpha >= 0;
   rep.straight_alpha = straight_alpha;
@@ -91,6 +92,9 @@ ImageConversion::ImageConversion(const JobPlan& plan, const OIIO::ImageSpec& spe
   std::map<std::string, std::string> recorded = {
       {"spectralize:colorspaceReason", in.colorspace_reason},
       {"spectralize:modeReason", in.mode_reason}};
+  // What the space is beyond its name, where known (an up-to-date record reads it back).
+  for (const auto& [name, value] : identity_attributes(rep.colorspace_identity))
+    if (!value.empty()) recorded[name] = value;
   std::vector<std::pair<std::string, double>> numbers;
   if (context.record_in_header) {
     nlohmann::ordered_json known = nlohmann::ordered_json::array();

@@ -18,7 +18,45 @@ void put_settings(Json& j, const Settings& s, Command command) {
   }
 }
 
+// The space's identity after its name: null where unknown.
+void put_identity(Json& j, const SpaceIdentity& id) {
+  auto text = [](const std::string& v) { return v.empty() ? Json(nullptr) : Json(v); };
+  j["colorspace_interop_id"] = text(id.interop_id);
+  j["colorspace_interop_id_source"] = text(id.interop_id_source);
+  j["colorspace_encoding"] = text(id.encoding);
+}
+
 }  // namespace
+
+SpaceIdentity SpaceIdentity::of(const ColourSpaceFacts& f) {
+  SpaceIdentity id;
+  id.interop_id = f.interop_id;
+  if (!f.interop_id.empty())
+    id.interop_id_source = f.interop_id_from_config ? "config" : "measured";
+  id.encoding = f.encoding;
+  return id;
+}
+
+std::vector<std::pair<std::string, std::string>> identity_attributes(const SpaceIdentity& id) {
+  return {{"spectralize:colorspaceInteropID", id.interop_id},
+          {"spectralize:colorspaceInteropIDSource", id.interop_id_source},
+          {"spectralize:colorspaceEncoding", id.encoding}};
+}
+
+SpaceIdentity identity_from_attributes(const std::map<std::string, std::string>& strings) {
+  auto get = [&](const char* name) {
+    auto it = strings.find(name);
+    return it == strings.end() ? std::string() : it->second;
+  };
+  return {get("spectralize:colorspaceInteropID"), get("spectralize:colorspaceInteropIDSource"),
+          get("spectralize:colorspaceEncoding")};
+}
+
+Json identity_record(const SpaceIdentity& id) {
+  Json j;
+  put_identity(j, id);
+  return j;
+}
 
 std::vector<std::string> count_warnings(const PixelCounts& c, const std::string& subject,
                                         const std::string& noun, const OptionNames& names) {
@@ -89,6 +127,7 @@ Json report_record(const ImageReport& r) {
   j["input_tiled"] = r.tiled_input;
   j["colorspace"] = r.colorspace;
   j["colorspace_reason"] = r.colorspace_reason;
+  put_identity(j, r.colorspace_identity);
   put_settings(j, r.settings, kImage);
   j["mode_reason"] = r.mode_reason;
   j["bands"] = r.bands;
@@ -144,6 +183,7 @@ std::string report_json(const ToRgbReport& r, int indent) {
   j["last_nm"] = r.last_nm;
   j["polarised"] = r.polarised;
   j["colorspace"] = r.colorspace;
+  put_identity(j, r.colorspace_identity);
   put_settings(j, r.settings, kToRgb);
   j["pixels"] = r.pixels;
   j["invalid_pixels"] = r.invalid_pixels;

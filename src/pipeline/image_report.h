@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "colour/colour_space.h"
 #include "core/tables/spectral_table.h"
 #include "pipeline/job_plan.h"
 #include "pipeline/spectral_converter.h"
@@ -16,12 +17,35 @@
 
 namespace spectralize {
 
+/// What a report says of a colour space beyond its name (docs/DESIGN.md §9): the Color Interop
+/// Forum's ID, stated by the config (OCIO 2.5) or measured, and the config's encoding; "" where
+/// neither is known. Reports, manifests and the spectral file's header carry it.
+struct SpaceIdentity {
+  std::string interop_id;
+  std::string interop_id_source;  // "config" or "measured" ("" without an ID)
+  std::string encoding;           // the config's ("scene-linear", "sdr-video", ...)
+  /// The identity the facts give. Cost: O(1).
+  static SpaceIdentity of(const ColourSpaceFacts& facts);
+};
+
+/// The spectral file header's attributes of an identity ("spectralize:colorspaceInteropID",
+/// "...InteropIDSource", "...Encoding"), in that order, values "" where unknown. Cost: O(1).
+std::vector<std::pair<std::string, std::string>> identity_attributes(const SpaceIdentity& id);
+
+/// The identity those attributes record (absent ones ""). Cost: O(1).
+SpaceIdentity identity_from_attributes(const std::map<std::string, std::string>& strings);
+
+/// The identity as a report's fields: colorspace_interop_id, colorspace_interop_id_source and
+/// colorspace_encoding, null where unknown. Cost: O(1).
+nlohmann::ordered_json identity_record(const SpaceIdentity& id);
+
 struct ImageReport {
   std::string input, output, input_format;
   int width = 0, height = 0, bands = 0;
   int mip_levels = 1, subimages = 1;  // of the input: level 0 of subimage 0 is converted
   bool tiled_input = false;
   std::string colorspace, colorspace_reason;  // of the input
+  SpaceIdentity colorspace_identity;
   std::string mode_reason;
   std::string preview_colorspace;
   Settings settings;  // as used (mode resolved in settings.spectral.mode)
@@ -46,6 +70,7 @@ struct ImageReport {
 /// The reverse job's report.
 struct ToRgbReport {
   std::string input, output, output_format, colorspace, kind;  // kind: emissive / reflective
+  SpaceIdentity colorspace_identity;  // of the space written (a display's view: its space)
   int width = 0, height = 0, bands = 0;
   double first_nm = 0, last_nm = 0;
   bool polarised = false;  // S1..S3 were present (S0 used)

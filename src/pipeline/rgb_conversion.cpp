@@ -53,6 +53,11 @@ RgbConversion::RgbConversion(const JobPlan& plan, const OIIO::ImageSpec& spec,
                        ? settings.colorspace
                        : settings.display + " / " +
                              (settings.view.empty() ? std::string("default view") : settings.view);
+  // The space written: the colour space, or the one a display's view ends in.
+  const std::string written = settings.display.empty()
+                                  ? settings.colorspace
+                                  : spaces.display_colour_space(settings.display, settings.view);
+  if (!written.empty()) rep.colorspace_identity = SpaceIdentity::of(spaces.facts(written));
   rep.kind = layout.emissive ? "emissive" : "reflective";
   rep.width = spec.width;
   rep.height = spec.height;

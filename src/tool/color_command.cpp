@@ -12,6 +12,7 @@
 
 #include "colour/colour_space.h"
 #include "imagefile/safe_output.h"
+#include "pipeline/image_report.h"
 #include "spectralize/core/error.h"
 #include "spectralize/core/spectralizer.h"
 #include "text/json_text.h"
@@ -28,11 +29,12 @@ Json xyz_json(const Xyz& v) {
   return Json::array({v.X, v.Y, v.Z});
 }
 
-Json result_json(const Rgb& rgb, const std::string& space, const Options& opt,
+Json result_json(const Rgb& rgb, const ColourSpaceFacts& space, const Options& opt,
                  const Spectralizer& sp, const SpectrumResult& r) {
   Json j;
   j["input_rgb"] = Json::array({rgb.r, rgb.g, rgb.b});
-  j["colorspace"] = space;
+  j["colorspace"] = space.name;
+  j.update(identity_record(SpaceIdentity::of(space)));
   // The settings that mattered, from the schema (mode resolved).
   Settings s = opt.settings;
   s.spectral = sp.settings();
@@ -94,7 +96,8 @@ int run_color(const Options& opt) {
   if (json) {
     Json out = Json::array();
     for (std::size_t i = 0; i < results.size(); ++i)
-      out.push_back(result_json(colours[i], to_xyz.source(), opt, spectralizer, results[i]));
+      out.push_back(
+          result_json(colours[i], spaces->facts(to_xyz.source()), opt, spectralizer, results[i]));
     text = dump_json(results.size() == 1 ? out[0] : out, 2) + "\n";
   } else {
     text = "wavelength_nm";

@@ -133,3 +133,68 @@ TEST(ColourSpaceChecks, ThePluginRefusesASpaceNoColourConvertsThrough) {
 }
 
 }  // namespace
+
+namespace {
+
+// The OpenColorIO the binary uses, as --version says it ("2.5.1").
+std::string ocio_version() {
+  const std::string v = run("--version").out;
+  const std::size_t at = v.find("OpenColorIO ");
+  return at == std::string::npos ? "" : v.substr(at + 12, v.find(',', at) - at - 12);
+}
+
+// The identity fields of a report or record.
+void expect_identity(const Json& j, const Json& id, const Json& source, const Json& encoding) {
+  EXPECT_EQ(j.at("colorspace_interop_id"), id) << j.dump();
+  EXPECT_EQ(j.at("colorspace_interop_id_source"), source) << j.dump();
+  EXPECT_EQ(j.at("colorspace_encoding"), encoding) << j.dump();
+}
+
+// Every report, manifest record and --color's JSON names the decided space's interop ID (the
+// config's own under OCIO 2.5's built-in configs, else measured, null where neither) and the
+// config's encoding. Oracles: the Color Interop Forum's ID of sRGB-encoded Rec.709
+// (srgb_rec709_scene) and the encodings the configs state.
+TEST(ColourSpaceChecks, ReportsAndManifestsNameTheSpacesInteropIdAndEncoding) {
+  e2e::Scratch s("spaces");
+  const std::string png = kImages + "colorchecker_srgb8.png";
+  struct Case {
+    std::string config;  // "" the shipped one
+    std::string source;  // where the sRGB texture space's ID comes from
+  };
+  std::vector<Case> cases = {{"", "measured"}};
+  if (ocio_version() >= "2.5") cases.push_back({"ocio://studio-config-latest", "config"});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.config);
+    const std::string cfg = c.config.empty() ? "" : " --config " + c.config;
+    fs::remove_all(s / "dst");
+    // The image command's report.
+    e2e::Run r = run(png + " -o " + (s / "a.exr") + " --report " + (s / "a.json") + cfg + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    expect_identity(Json::parse(e2e::slurp(s / "a.json")), "srgb_rec709_scene", c.source,
+                    "sdr-video");
+    // The manifest: converted, then up to date (read back from the output's header).
+    fs::create_directories(s / "lib");
+    fs::copy_file(png, s / "lib/albedo.png", fs::copy_options::overwrite_existing);
+    for (const char* status : {"converted", "up_to_date"}) {
+      SCOPED_TRACE(status);
+      ASSERT_EQ(run("ingest " + (s / "lib") + " -o " + (s / "dst") + cfg + " -q").exit_code, 0);
+      const std::string manifest = e2e::slurp(s / "dst/spectralize-ingest.jsonl");
+      const Json record = Json::parse(manifest.substr(0, manifest.find('\n')));
+      EXPECT_EQ(record.at("status"), status);
+      expect_identity(record, "srgb_rec709_scene", c.source, "sdr-video");
+    }
+    // --to-rgb's report: the space written.
+    r = run("--to-rgb " + (s / "a.exr") + " -o " + (s / "b.png") + " --report " + (s / "b.json") +
+            cfg + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    expect_identity(Json::parse(e2e::slurp(s / "b.json")), "srgb_rec709_scene", c.source,
+                    "sdr-video");
+  }
+  // --color's JSON; a log space no interop ID names: null, its encoding the config's.
+  const Json log = Json::parse(run("--color 0.4,0.4,0.4 --format json --colorspace ACEScct").out);
+  expect_identity(log, nullptr, nullptr, "log");
+  const Json cg = Json::parse(run("--color 0.4,0.4,0.4 --format json --colorspace ACEScg").out);
+  expect_identity(cg, "lin_ap1_scene", "measured", "scene-linear");
+}
+
+}  // namespace

@@ -21,6 +21,9 @@ def cli_decision(path, tmp_path):
     return r["colorspace"], r["colorspace_reason"]
 
 
+IDENTITY = ("colorspace_interop_id", "colorspace_interop_id_source", "colorspace_encoding")
+
+
 def srgb_decode(code):
     v = np.asarray(code, dtype=np.float64) / 255
     return np.where(v <= 0.04045, v / 12.92, np.power((v + 0.055) / 1.055, 2.4))
@@ -32,6 +35,8 @@ def test_an_srgb_texture_is_decided_and_decoded_as_the_cli_does(sp, tmp_path):
     assert (info["colorspace"], info["colorspace_reason"]) == cli_decision(path, tmp_path)
     assert info["linear_colorspace"] == "Linear Rec.709 (sRGB)"
     assert info["mode"] == "reflectance"
+    # The Color Interop Forum's ID of sRGB-encoded Rec.709, and the shipped config's encoding.
+    assert tuple(info[k] for k in IDENTITY) == ("srgb_rec709_scene", "measured", "sdr-video")
     pixels = np.asarray(oiio.ImageInput.open(str(path)).read_image(0, 0, 0, 3, "uint8"))
     assert rgb.shape == pixels.shape and rgb.dtype == np.float32
     # OCIO's float processor: within a few float ulps of the curve.
