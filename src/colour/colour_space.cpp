@@ -243,8 +243,9 @@ ColourSpaces ColourSpaces::load(const std::string& explicit_path) {
         "built-in configs (ocio://...) need OpenColorIO 2.2 or later; this "
         "build uses OpenColorIO " +
         std::string(OCIO::GetVersion()) + ": give the path of a config file";
-    if (!explicit_path.empty()) throw Error(why);
-    throw ConfigError("OCIO config '$OCIO=" + source + "': " + why);
+    // A config that cannot be loaded, however it was named (exit 1, docs/guide/files.md).
+    throw ConfigError(std::string("OCIO config '") + (explicit_path.empty() ? "$OCIO=" : "") +
+                      source + "': " + why);
   }
   try {
     if (!explicit_path.empty()) {

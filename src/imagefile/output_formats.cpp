@@ -123,9 +123,8 @@ std::vector<OutputFormat> stated_facts() {
          "stores a palette of at most 256 colours, and always four channels; write .png");
   refuse("ico", "ICO", "holds icons (8-bit RGBA, at most 256 x 256 pixels); write .png");
   refuse("jpeg2000", "JPEG 2000",
-         "files written by OIIO 2.4 do not read back when small (16 x 16 pixels) and lose "
-         "alpha; "
-         "write .png or .tif");
+         "files written by OpenImageIO do not read back when a side is under 32 pixels, and "
+         "RGBA ones come back with other values (OIIO 2.4 and 3.1); write .png or .tif");
   refuse("iff", "IFF",
          "files are written by OIIO 2.4 in tiles only (its writer refuses scanlines); write "
          ".tif");
@@ -415,11 +414,13 @@ std::string compression_help() {
 }
 
 std::vector<std::string_view> all_compression_names() {
+  // Only formats this OpenImageIO writes: a name no output can take is not offered.
   static const std::vector<std::string_view> names = [] {
     std::vector<std::string_view> out;
-    for (const OutputFormat& f : stated_facts())
-      for (const CompressionChoice& c : f.compressions)
-        if (std::find(out.begin(), out.end(), c.name) == out.end()) out.push_back(c.name);
+    for (const OutputFormat& f : output_formats())
+      if (f.available && f.refused.empty())
+        for (const CompressionChoice& c : f.compressions)
+          if (std::find(out.begin(), out.end(), c.name) == out.end()) out.push_back(c.name);
     return out;
   }();
   return names;
@@ -427,13 +428,15 @@ std::vector<std::string_view> all_compression_names() {
 
 bool compression_level_range(std::string_view name, int& min_level, int& max_level) {
   bool any = false;
-  for (const OutputFormat& f : stated_facts())
+  for (const OutputFormat& f : output_formats()) {
+    if (!f.available || !f.refused.empty()) continue;
     for (const CompressionChoice& c : f.compressions)
       if (c.name == name && c.max_level > 0) {
         min_level = any ? std::min(min_level, c.min_level) : c.min_level;
         max_level = any ? std::max(max_level, c.max_level) : c.max_level;
         any = true;
       }
+  }
   return any;
 }
 

@@ -115,8 +115,9 @@ std::string cannot_write_here(const OutputFormat& format);
 /// format table.
 std::string compression_help();
 
-/// Every compression name any format takes, and the level range of `name` across formats (for
-/// the settings schema's first check of --compression). Cost: O(table).
+/// Every compression name a format this OpenImageIO writes takes, and the level range of `name`
+/// across those formats (for the settings schema's first check of --compression). Cost:
+/// O(table) (the table is made once per process).
 std::vector<std::string_view> all_compression_names();
 bool compression_level_range(std::string_view name, int& min_level, int& max_level);
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/colorimetry/renderer_frame.h"
+#include "core/decimal_number.h"
 #include "imagefile/output_formats.h"
 #include "settings/map_kind.h"
 #include "spectralize/core/colorimetry.h"
@@ -21,6 +22,11 @@ constexpr unsigned kSpectrumCommands = kImage | kColor | kPlotColor | kIngest | 
 constexpr unsigned kFileCommands = kImage | kToRgb | kIngest;
 constexpr unsigned kAllCommands =
     kImage | kToRgb | kColor | kPlotColor | kPlotPixel | kIngest | kTable;
+
+const CommandName kCommandNames[] = {
+    {kImage, "image"},    {kToRgb, "--to-rgb"},         {kColor, "--color"},
+    {kPlotColor, "plot"}, {kPlotPixel, "--plot-pixel"}, {kIngest, "ingest"},
+    {kTable, "table"}};
 
 // A whole number in [lo, hi]; throws Error naming the value.
 int whole(std::string_view text, int lo, int hi) {
@@ -71,9 +77,12 @@ std::string parse_compression(std::string_view text) {
   int lo = 0, hi = 0;
   if (name == "dwaa" || name == "dwab") {
     double q = 0;
-    auto r = std::from_chars(level.data(), level.data() + level.size(), q);
-    if (r.ec != std::errc() || r.ptr != level.data() + level.size() || !(q > 0) ||
-        !std::isfinite(q))
+    try {
+      q = decimal_number(level);
+    } catch (const Error& e) {
+      throw Error(quote(text) + ": the DWA quality " + e.what() + " (e.g. dwaa:45)");
+    }
+    if (!(q > 0))
       throw Error(quote(text) + ": the DWA quality must be a number above 0 (e.g. dwaa:45)");
   } else if (compression_level_range(name, lo, hi)) {
     try {
@@ -154,10 +163,8 @@ std::vector<SettingSpec> make_schema() {
                "nm (0: slope only)",
                kSpectrumCommands, true, true,
                [](Settings& v, std::string_view t) {
-                 double tau = 0;
-                 auto r = std::from_chars(t.data(), t.data() + t.size(), tau);
-                 if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !(tau >= 0) ||
-                     !(tau <= 1000))
+                 const double tau = decimal_number(t);
+                 if (!(tau >= 0) || !(tau <= 1000))
                    throw Error(quote(t) + " must be a length in nm from 0 to 1000");
                  v.spectral.curvature_nm = tau;
                },
@@ -372,6 +379,10 @@ std::string_view to_string(ModeChoice mode) {
       return "reflectance";
   }
   return "auto";
+}
+
+std::span<const CommandName> command_names() {
+  return kCommandNames;
 }
 
 const std::vector<SettingSpec>& settings_schema() {

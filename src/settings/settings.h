@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -28,6 +29,19 @@ enum Command : unsigned {
   kIngest = 1u << 5,     // ingest SRC... -o DESTDIR
   kTable = 1u << 6,      // table -o NAME.spztab (a render-time table, pipeline/render_table.h)
 };
+
+/// A command as --help, messages and `--help-markdown-for` name it: the word or flag a user
+/// types ("image", "--to-rgb", "plot": a --color with -o PLOT); its guide page is the name
+/// without the leading "--".
+struct CommandName {
+  Command bit;
+  std::string_view name;
+  /// The name without a leading "--" ("to-rgb"). Cost: O(1).
+  std::string_view page() const { return name.rfind("--", 0) == 0 ? name.substr(2) : name; }
+};
+
+/// Every command, in --help's order. Cost: O(1).
+std::span<const CommandName> command_names();
 
 /// How the mode is chosen.
 enum class ModeChoice { automatic, emission, reflectance };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "classify/input_interpretation.h"
+#include "core/decimal_number.h"
 #include "pipeline/job_plan.h"
 #include "pipeline/render_table.h"
 #include "text/strings.h"
@@ -84,15 +85,11 @@ Rgb parse_rgb(const std::string& text) {
     // Allow surrounding spaces ("0.2, 0.5, 0.1" quoted as one argument).
     std::size_t b = part.find_first_not_of(' '), e = part.find_last_not_of(' ');
     part = b == std::string::npos ? "" : part.substr(b, e - b + 1);
-    const char* first = part.data() + (part.size() > 0 && part[0] == '+' ? 1 : 0);
-    double x = 0;
-    auto r = std::from_chars(first, part.data() + part.size(), x);
-    if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
-      throw UsageError{fmt::format("--color '{}': '{}' is not a number", clip(text), clip(part))};
-    if (!std::isfinite(x))
-      throw UsageError{
-          fmt::format("--color '{}': components must be finite, got '{}'", clip(text), clip(part))};
-    v.push_back(x);
+    try {
+      v.push_back(decimal_number(part));
+    } catch (const Error& e) {
+      throw UsageError{fmt::format("--color '{}': {}", clip(text), e.what())};
+    }
     if (comma == std::string::npos) break;
     pos = comma + 1;
   }

@@ -12,20 +12,6 @@ namespace {
 
 constexpr unsigned kPlots = kPlotColor | kPlotPixel;
 
-// The commands in --help's order, with the names the reference gives them and the names of
-// their pages of the guide (--help-markdown-for).
-struct CommandName {
-  Command bit;
-  const char* name;
-  const char* page;
-};
-constexpr CommandName kCommandNames[] = {{kImage, "image", "image"},
-                                         {kToRgb, "--to-rgb", "to-rgb"},
-                                         {kColor, "--color", "color"},
-                                         {kPlotColor, "plots", "plot"},
-                                         {kPlotPixel, "--plot-pixel", "plot-pixel"},
-                                         {kIngest, "ingest", "ingest"},
-                                         {kTable, "table", "table"}};
 constexpr unsigned kAllCommands = kImage | kToRgb | kColor | kPlots | kIngest | kTable;
 
 // The words of `text`, wrapped into lines that start at column `indent` and end by `width`
@@ -137,9 +123,16 @@ std::string command_name(Command command) {
 
 std::string commands_list(unsigned commands) {
   std::string out;
-  for (const CommandName& c : kCommandNames)
+  for (const CommandName& c : command_names())
     if ((commands & c.bit) && !(c.bit == kPlotColor && (commands & kColor)))
       out += (out.empty() ? "" : ", ") + std::string(c.name);
+  return out;
+}
+
+std::string command_list_for_pages() {
+  std::string out;
+  for (const CommandName& c : command_names())
+    out += (out.empty() ? "" : ", ") + std::string(c.name);
   return out;
 }
 
@@ -157,14 +150,14 @@ HelpDocument help_document() {
        "a render-time table of exact spectra (spectralize/rt.h)"},
   };
   HelpSection by_command{"Flags by command", {}};
-  for (const CommandName& c : kCommandNames) {
+  for (const CommandName& c : command_names()) {
     std::string flags;
     for (const CommandFlag& f : command_flags())
       if (f.commands & c.bit) flags += std::string(flags.empty() ? "" : " ") + f.flag;
     for (const SettingSpec& spec : settings_schema())
       if (spec.applies(c.bit) && flags.find(spec.flag) == std::string::npos)
         flags.append(" ").append(spec.flag);
-    by_command.entries.push_back({c.name, flags + " -v -q", "", ""});
+    by_command.entries.push_back({std::string(c.name), flags + " -v -q", "", ""});
   }
   HelpSection outputs{"Commands and outputs", {}};
   for (const CommandFlag& f : command_flags())
@@ -185,6 +178,13 @@ HelpDocument help_document() {
       {"-h, --help", "Print this help and exit", "", ""},
       {"--version",
        "Print the version (and the OpenImageIO, OpenColorIO and OpenEXR it uses) and exit", "", ""},
+      {"--help-man", "Print this reference as a man page (roff) and exit", "", ""},
+      {"--help-markdown", "Print this reference as Markdown (the guide's flag chapter) and exit",
+       "", ""},
+      {"--help-markdown-for COMMAND",
+       "Print the flags of one command as a Markdown table and exit; COMMAND is one of " +
+           command_list_for_pages() + " (the leading -- may be left out)",
+       "", ""},
       {"--", "Everything after it is an input file, even if it starts with '-'", "", ""},
       {"--force", "ingest: convert even what is up to date", "", ""},
       {"--merge", "ingest: merge the shards' manifests of -o DESTDIR into one", "", ""},
@@ -287,7 +287,7 @@ std::string help_markdown() {
 const std::vector<std::pair<std::string, Command>>& command_pages() {
   static const std::vector<std::pair<std::string, Command>> pages = [] {
     std::vector<std::pair<std::string, Command>> out;
-    for (const CommandName& c : kCommandNames) out.emplace_back(c.page, c.bit);
+    for (const CommandName& c : command_names()) out.emplace_back(c.page(), c.bit);
     return out;
   }();
   return pages;

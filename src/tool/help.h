@@ -60,9 +60,14 @@ std::string help_man();
 /// The reference as a Markdown chapter of the guide. Cost: O(settings).
 std::string help_markdown();
 
-/// The commands by the names `--help-markdown-for` takes ("image", "to-rgb", "color", "plot",
-/// "plot-pixel", "ingest", "table"), with their bits. Cost: O(1).
+/// The commands by their guide pages' names (settings' command_names() without the leading
+/// "--": "image", "to-rgb", "color", "plot", "plot-pixel", "ingest", "table"), with their bits.
+/// Cost: O(1).
 const std::vector<std::pair<std::string, Command>>& command_pages();
+
+/// "image, --to-rgb, ...": the names --help-markdown-for takes (a leading "--" optional), for
+/// --help and its error. Cost: O(commands).
+std::string command_list_for_pages();
 
 /// Every flag of one command as a Markdown table (flag, what it does, default), for that
 /// command's chapter of the guide. Cost: O(settings).

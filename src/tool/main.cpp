@@ -27,11 +27,13 @@ using namespace spectralize::tool;
 
 namespace {
 
-// The command `--help-markdown-for NAME` names; a UsageError for another name.
+// The command `--help-markdown-for NAME` names (as --help names it, the leading "--" optional);
+// a UsageError listing the names for another.
 Command command_page(const std::string& name) {
-  for (const auto& [page, command] : command_pages())
-    if (page == name) return command;
-  throw UsageError{"--help-markdown-for '" + name + "': not a command's page"};
+  for (const CommandName& c : command_names())
+    if (name == c.name || name == c.page()) return c.bit;
+  throw UsageError{"--help-markdown-for " + quote(name) + ": not a command (valid: " +
+                   command_list_for_pages() + "; the leading -- may be left out)"};
 }
 
 int terminal_width() {
@@ -176,6 +178,12 @@ void apply_flags(const Given& given, Options& opt) {
 // Reads the command line into `opt`; throws UsageError.
 void parse(int argc, const char** argv, Options& opt, std::string& help, bool& version) {
   const Given given = read_flags(argc, argv, opt, help, version);
+  // The reference's generators write one document: anything else given is a slip.
+  if (!help.empty() && help != "text" &&
+      (!given.empty() || !opt.given.empty() || !opt.inputs.empty() || version))
+    throw UsageError{"--help-man, --help-markdown and --help-markdown-for take nothing else; " +
+                     (opt.inputs.empty() ? std::string("remove the other flags")
+                                         : "'" + clip(opt.inputs.front()) + "' is not theirs")};
   if (!help.empty() || version) return;
   for (const auto& [flag, value] : given) {
     opt.given.insert(flag);

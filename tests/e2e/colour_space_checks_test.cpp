@@ -136,13 +136,6 @@ TEST(ColourSpaceChecks, ThePluginRefusesASpaceNoColourConvertsThrough) {
 
 namespace {
 
-// The OpenColorIO the binary uses, as --version says it ("2.5.1").
-std::string ocio_version() {
-  const std::string v = run("--version").out;
-  const std::size_t at = v.find("OpenColorIO ");
-  return at == std::string::npos ? "" : v.substr(at + 12, v.find(',', at) - at - 12);
-}
-
 // The identity fields of a report or record.
 void expect_identity(const Json& j, const Json& id, const Json& source, const Json& encoding) {
   EXPECT_EQ(j.at("colorspace_interop_id"), id) << j.dump();
@@ -162,7 +155,7 @@ TEST(ColourSpaceChecks, ReportsAndManifestsNameTheSpacesInteropIdAndEncoding) {
     std::string source;  // where the sRGB texture space's ID comes from
   };
   std::vector<Case> cases = {{"", "measured"}};
-  if (ocio_version() >= "2.5") cases.push_back({"ocio://studio-config-latest", "config"});
+  if (e2e::ocio_version() >= "2.5") cases.push_back({"ocio://studio-config-latest", "config"});
   for (const Case& c : cases) {
     SCOPED_TRACE(c.config);
     const std::string cfg = c.config.empty() ? "" : " --config " + c.config;

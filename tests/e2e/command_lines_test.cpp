@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include "cli_support.h"
 
@@ -110,6 +111,61 @@ TEST(CommandLines, DoubleDashAndLongNamesWork) {
   EXPECT_EQ(r.exit_code, 0);
   const std::regex filter(R"(--filter K[^\[]*\[auto\])");
   EXPECT_TRUE(std::regex_search(r.out, filter)) << r.out.substr(0, 3000);
+}
+
+// The reference's generators use --help's names for the commands (the leading "--" optional),
+// list them when given another, take nothing else, and are in --help themselves.
+TEST(CommandLines, HelpPagesAreNamedAsHelpNamesTheCommands) {
+  const e2e::Run help = run("--help");
+  ASSERT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("--help-markdown-for COMMAND"), std::string::npos);
+  // The commands as --help's "Flags by command" names them: each has a page.
+  const std::size_t from = help.out.find("Flags by command:\n");
+  const std::size_t to = help.out.find("\n\n", from);
+  ASSERT_NE(from, std::string::npos);
+  std::istringstream section(help.out.substr(from, to - from));
+  std::string line;
+  std::getline(section, line);
+  std::vector<std::string> names;
+  while (std::getline(section, line))
+    if (line.rfind("  ", 0) == 0 && line[2] != ' ')
+      names.push_back(line.substr(2, line.find(' ', 2) - 2));
+  EXPECT_EQ(names.size(), 7u) << help.out.substr(from, to - from);
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    const e2e::Run page = run("--help-markdown-for " + name);
+    EXPECT_EQ(page.exit_code, 0) << page.err;
+    EXPECT_EQ(page.out.rfind("| Flag | What it does | Default |", 0), 0u) << page.out;
+    if (name.rfind("--", 0) == 0) {
+      EXPECT_EQ(run("--help-markdown-for " + name.substr(2)).out, page.out);
+    }
+  }
+  // Another name: exit 2, the valid ones listed.
+  const e2e::Run bad = run("--help-markdown-for colour");
+  EXPECT_EQ(bad.exit_code, 2);
+  for (const std::string& name : names) EXPECT_NE(bad.err.find(name), std::string::npos) << bad.err;
+  // Anything else on the line is a slip, not ignored.
+  for (const char* extra : {"--help-markdown-for table extra", "--help-markdown-for table -q",
+                            "--help-man in.png", "--help-markdown --threads 2"}) {
+    SCOPED_TRACE(extra);
+    const e2e::Run r = run(extra);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+// A config that cannot be loaded is the job's failure (exit 1) whether --config or $OCIO names
+// it, a built-in URI included (docs/guide/files.md, Exit status).
+TEST(CommandLines, AConfigThatCannotBeLoadedExitsOneHoweverItIsNamed) {
+  for (const char* config : {"ocio://no-such-config", "/nonexistent/config.ocio"}) {
+    SCOPED_TRACE(config);
+    const e2e::Run flag = run(std::string("--color 1,1,1 --config ") + config);
+    const e2e::Run env = run("--color 1,1,1", std::string("OCIO=") + config);
+    EXPECT_EQ(flag.exit_code, 1) << flag.err;
+    EXPECT_EQ(env.exit_code, 1) << env.err;
+    EXPECT_NE(flag.err.find(config), std::string::npos) << flag.err;
+    EXPECT_NE(env.err.find(config), std::string::npos) << env.err;
+  }
 }
 
 // Recipes and the CLI share one schema: the same values are accepted and refused.

@@ -46,9 +46,14 @@ TEST(ColourValues, AMalformedColourIsRefusedNamingTheValueAndTheSlip) {
   EXPECT_NE(usage_message("1,x,3").find("--color '1,x,3': 'x' is not a number"), std::string::npos);
   EXPECT_NE(usage_message("1,,3").find("'' is not a number"), std::string::npos);
   EXPECT_NE(usage_message("1,2,3abc").find("'3abc' is not a number"), std::string::npos);
-  EXPECT_NE(usage_message("nan,0,0").find("components must be finite, got 'nan'"),
-            std::string::npos);
-  EXPECT_NE(usage_message("0,inf,0").find("must be finite"), std::string::npos);
+  EXPECT_NE(usage_message("nan,0,0").find("'nan' is not a finite number"), std::string::npos);
+  EXPECT_NE(usage_message("0,inf,0").find("'inf' is not a finite number"), std::string::npos);
+  // A finite number in another notation is named for what it is (core/decimal_number.h).
+  EXPECT_NE(usage_message("0x1p-2,0,0")
+                .find("'0x1p-2' is a hexadecimal number; write it in "
+                      "decimal (0.25)"),
+            std::string::npos)
+      << usage_message("0x1p-2,0,0");
   EXPECT_FALSE(usage_message("1e999,0,0").empty());  // beyond double: refused, not infinite
 }
 

@@ -77,7 +77,9 @@ TEST(RendererFrame, WhatIsNoMatrixIsRefusedSayingWhy) {
   test::expect_error_mentioning([] { RendererMatrix::parse("1,2,3"); }, {"nine numbers"},
                                 "three numbers");
   test::expect_error_mentioning([] { RendererMatrix::parse("1,0,0,0,1,0,0,0,x"); },
-                                {"'x'", "not a finite number"}, "a word");
+                                {"'x' is not a number"}, "a word");
+  test::expect_error_mentioning([] { RendererMatrix::parse("1,0,0,0,1,0,0,0,0x1p-2"); },
+                                {"'0x1p-2' is a hexadecimal number"}, "a hexadecimal number");
   test::expect_error_mentioning([] { RendererMatrix::parse("1,0,0,0,1,0,0,0,nan"); },
                                 {"'nan'", "not a finite number"}, "NaN");
   test::expect_error_mentioning([] { RendererMatrix::parse("1,0,0,2,0,0,0,0,1"); }, {"singular"},

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/decimal_number.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -24,11 +25,11 @@ std::vector<std::string_view> fields_of(std::string_view text) {
 }
 
 double number(std::string_view f, std::string_view text) {
-  double v = 0;
-  const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
-  if (f.empty() || r.ec != std::errc() || r.ptr != f.data() + f.size() || !std::isfinite(v))
-    throw Error("'" + std::string(text) + "': '" + std::string(f) + "' is not a finite number");
-  return v;
+  try {
+    return decimal_number(f);
+  } catch (const Error& e) {
+    throw Error(quote(text) + ": " + e.what());
+  }
 }
 
 std::string shortest(double v) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/decimal_number.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -51,9 +52,11 @@ WavelengthGrid WavelengthGrid::parse(std::string_view spec) {
     std::string_view part = (i < 2) ? rest.substr(0, colon) : rest;
     if ((i < 2 && colon == std::string_view::npos) || (i == 2 && part.find(':') != part.npos))
       throw Error("wavelength grid " + quote(spec) + ": expected start:end:step in nm");
-    auto r = std::from_chars(part.data(), part.data() + part.size(), v[i]);
-    if (part.empty() || r.ec != std::errc() || r.ptr != part.data() + part.size())
-      throw Error("wavelength grid " + quote(spec) + ": " + quote(part) + " is not a number");
+    try {
+      v[i] = decimal_number(part);
+    } catch (const Error& e) {
+      throw Error("wavelength grid " + quote(spec) + ": " + e.what());
+    }
     if (i < 2) rest = rest.substr(colon + 1);
   }
   try {

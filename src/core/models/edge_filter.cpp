@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/decimal_number.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -38,10 +39,14 @@ EdgeFilter EdgeFilter::parse(std::string_view text) {
   bool percent = !text.empty() && text.back() == '%';
   std::string_view num = percent ? text.substr(0, text.size() - 1) : text;
   double v = 0;
-  auto r = std::from_chars(num.data(), num.data() + num.size(), v);
-  if (num.empty() || r.ec != std::errc() || r.ptr != num.data() + num.size() || !std::isfinite(v))
-    throw Error(quoted +
-                "expected auto, a fraction (0.7), a percentage (70%), a count (1000) or none");
+  try {
+    // Its own spelling only (to_string's): no sign before the number.
+    if (!num.empty() && num.front() == '+') throw Error(quote(num) + " has a sign");
+    v = decimal_number(num);
+  } catch (const Error& e) {
+    throw Error(quoted + e.what() +
+                ": expected auto, a fraction (0.7), a percentage (70%), a count (1000) or none");
+  }
   if (v < 0) throw Error(quoted + "must not be negative");
   if (percent) {
     if (v >= 100) throw Error(quoted + "a percentage must be below 100%");
