@@ -163,46 +163,45 @@ CpuPtr exact_cpu_processor(const OCIO::ConstProcessorRcPtr& processor) {
                                              OCIO::OPTIMIZATION_LOSSLESS);
 }
 
-// Why no colour can be converted through a space whose conversion to CIE XYZ gives `mid` for
-// mid grey and `dirs` for each primary's direction from it and the white, or "": values that
-// are not finite, every colour the same XYZ (a zero matrix: all black), or directions that
-// are not independent (a singular matrix: different colours meet; their volume against the
-// product of their lengths below 1e-6, whatever the scale).
-std::string unusable_reason(const Xyz& mid, const Xyz (&dirs)[4]) {
+// Why no colour can be converted through a space whose conversion to CIE XYZ is `t`, or "":
+// NaN or infinity at white, at mid grey or along a primary's direction from it; or, from each
+// of three greys (0.5, 0.1, 0.02: a curve may saturate at some, as ADX16's does above 0.5),
+// every direction zero (every colour the same XYZ; a zero matrix: all black) or the three not
+// independent (a singular matrix: different colours meet; their volume below 1e-6 of the
+// product of their lengths, whatever the scale).
+std::string unusable_reason(const ColourTransform& t) {
   auto text = [](const Xyz& c) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", c.X, c.Y, c.Z);
     return std::string(buf);
   };
-  const Xyz& white = dirs[3];
-  if (!white.finite())
-    return "its conversion to CIE XYZ gives NaN or infinity (RGB (1, 1, 1) -> XYZ " + text(white) +
-           ")";
-  if (!mid.finite())
-    return "its conversion to CIE XYZ gives NaN or infinity (RGB (0.5, 0.5, 0.5) -> XYZ " +
-           text(mid) + ")";
-  for (int k = 0; k < 3; ++k)
-    if (!dirs[k].finite())
-      return "its conversion to CIE XYZ gives NaN or infinity (for the " +
-             std::string(k == 0   ? "red"
-                         : k == 1 ? "green"
-                                  : "blue") +
-             " primary)";
-  double length = 1;
+  const Xyz white = t(1, 1, 1), mid = t(0.5, 0.5, 0.5);
+  const char* why_nan = "its conversion to CIE XYZ gives NaN or infinity (RGB ";
+  if (!white.finite()) return why_nan + std::string("(1, 1, 1) -> XYZ ") + text(white) + ")";
+  if (!mid.finite()) return why_nan + std::string("(0.5, 0.5, 0.5) -> XYZ ") + text(mid) + ")";
   bool constant = true;
-  for (int k = 0; k < 3; ++k) {
-    length *= std::sqrt(dot(dirs[k], dirs[k]));
-    constant = constant && dirs[k].max_abs() == 0;
+  for (const double g : {0.5, 0.1, 0.02}) {
+    const Xyz base = t(g, g, g);
+    const Xyz dirs[3] = {t(2 * g, g, g) - base, t(g, 2 * g, g) - base, t(g, g, 2 * g) - base};
+    double length = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (!dirs[k].finite())
+        return "its conversion to CIE XYZ gives NaN or infinity (more " +
+               std::string(k == 0   ? "red"
+                           : k == 1 ? "green"
+                                    : "blue") +
+               " than the grey " + std::to_string(g).substr(0, 4) + ")";
+      length *= std::sqrt(dot(dirs[k], dirs[k]));
+      constant = constant && dirs[k].max_abs() == 0;
+    }
+    if (std::abs(dot(dirs[0], cross(dirs[1], dirs[2]))) > 1e-6 * length) return "";
   }
   if (constant)
     return white.max_abs() == 0
                ? "its conversion to CIE XYZ makes every colour black (XYZ 0)"
                : "its conversion to CIE XYZ gives every colour the same XYZ " + text(white);
-  const double volume = std::abs(dot(dirs[0], cross(dirs[1], dirs[2])));
-  if (!(volume > 1e-6 * length))
-    return "its conversion to CIE XYZ is singular: its primaries are not independent, so "
-           "different colours become the same XYZ";
-  return "";
+  return "its conversion to CIE XYZ is singular: its primaries are not independent, so "
+         "different colours become the same XYZ";
 }
 
 }  // namespace
@@ -466,6 +465,8 @@ ColourTransform ColourSpaces::display_from_xyz(const std::string& display,
     throw Error("unknown view " + quote(v) + " of display '" + display + "' (valid: " + views +
                 ")");
   t.source_ = display + " / " + v;
+  // The view ends in a colour space: one no colour converts through is refused as by name.
+  if (const std::string space = display_colour_space(display, v); !space.empty()) usable(space);
   try {
     const XyzRoute route = xyz_route_of(config, origin_);
     auto group = OCIO::GroupTransform::Create();
@@ -596,7 +597,7 @@ ColourSpaceFacts ColourSpaces::gather_facts(const std::string& space) const {
   // times c(1) - c(g) for any per-channel curve c (also a log curve, where c(0) is not 0).
   const Xyz mid = t(0.5, 0.5, 0.5);
   const Xyz dirs[4] = {t(1, 0.5, 0.5) - mid, t(0.5, 1, 0.5) - mid, t(0.5, 0.5, 1) - mid, f.white};
-  f.unusable = unusable_reason(mid, dirs);
+  f.unusable = unusable_reason(t);
   if (!f.unusable.empty()) return f;
   std::array<float, 8> xy{};
   bool primaries = true;

@@ -32,6 +32,11 @@ std::string broken_config(bool role) {
                             "\"*_broken*\", extension: \"*\"}\n");
   if (role)
     text = std::regex_replace(text, std::regex("scene_linear: [^\n]*"), "scene_linear: Zero");
+  // A display's view that ends in it.
+  text = std::regex_replace(text, std::regex("( *- !<View> \\{name: Raw, colorspace: Raw\\}\n)"),
+                            "$1    - !<View> {name: Broken, colorspace: Zero}\n");
+  text = std::regex_replace(text, std::regex("active_views: \\[([^\\]]*)\\]"),
+                            "active_views: [$1, Broken]");
   auto space = [](const std::string& name, const std::string& matrix) {
     return "\n  - !<ColorSpace>\n    name: " + name +
            "\n    isdata: false\n    to_scene_reference: !<MatrixTransform> {matrix: [" + matrix +
@@ -81,6 +86,21 @@ TEST(ColourSpaceChecks, EveryCommandRefusesASpaceNoColourConvertsThroughBeforeAn
     for (const char* left : {"x.exr", "y.exr", "t.spztab", "dst"})
       EXPECT_FALSE(fs::exists(s / left)) << left;
   }
+}
+
+// A display's view is converted to as well: one ending in such a space is refused by name.
+TEST(ColourSpaceChecks, ADisplaysViewEndingInSuchASpaceIsRefused) {
+  e2e::Scratch s("spaces");
+  const std::string cfg = " --config " + s.write("broken.ocio", broken_config(false));
+  ASSERT_EQ(run(kImages + "colorchecker_srgb8.png -o " + (s / "ok.exr") + cfg + " -q").exit_code,
+            0);
+  const std::string to_rgb = "--to-rgb " + (s / "ok.exr") + " -o " + (s / "y.png") + cfg;
+  ASSERT_EQ(run(to_rgb + " --display sRGB --view Standard -q").exit_code, 0);
+  fs::remove(s / "y.png");
+  const e2e::Run r = run(to_rgb + " --display sRGB --view Broken");
+  expect_refusal(r, 2, "Zero", "makes every colour black");
+  EXPECT_NE(r.err.find("--display"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s / "y.png"));
 }
 
 TEST(ColourSpaceChecks, ASpaceTheConfigChoosesFailsTheFileItIsChosenFor) {

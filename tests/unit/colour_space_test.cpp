@@ -77,7 +77,8 @@ TEST(ColourSpace, FactsMeasureTheMatrixTheWhiteAndOneMeaningOfLinear) {
 }
 
 // A config's spaces whose conversion to CIE XYZ carries no colour: a zero matrix (all black),
-// a NaN in the matrix, a rank-1 matrix (every colour grey), a tiny scale that stays usable.
+// a NaN in the matrix, a rank-1 matrix (every colour grey); and two that stay usable: a tiny
+// scale, a curve that saturates above 0.3.
 std::string broken_spaces_config() {
   auto space = [](const std::string& name, const std::string& matrix) {
     return "  - !<ColorSpace>\n    name: " + name +
@@ -92,7 +93,11 @@ std::string broken_spaces_config() {
          space("Zero", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0") +
          space("NaNs", ".nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0") +
          space("Grey", "0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0, 0.3, 0.3, 0.3, 0") +
-         space("Dim", "1e-5, 0, 0, 0, 0, 1e-5, 0, 0, 0, 0, 1e-5, 0");
+         space("Dim", "1e-5, 0, 0, 0, 0, 1e-5, 0, 0, 0, 0, 1e-5, 0") +
+         // Saturating above 0.3, as ADX16's curve does above 0.5: usable below.
+         "  - !<ColorSpace>\n    name: Clamped\n    isdata: false\n    to_scene_reference: "
+         "!<RangeTransform> {min_in_value: 0, max_in_value: 0.3, min_out_value: 0, "
+         "max_out_value: 0.3}\n";
 }
 
 // Every way to a conversion refuses a space no colour converts through, naming it and why:
@@ -116,7 +121,7 @@ TEST(ColourSpace, ASpaceNoColourConvertsThroughIsRefusedBeforeAnyConversion) {
       EXPECT_NE(msg.find(why), std::string::npos) << msg;
     }
   }
-  for (const char* fine : {"XYZ", "Raw", "Dim"}) {
+  for (const char* fine : {"XYZ", "Raw", "Dim", "Clamped"}) {
     SCOPED_TRACE(fine);
     EXPECT_EQ(spaces.facts(fine).unusable, "");
     EXPECT_NO_THROW(spaces.named(fine));

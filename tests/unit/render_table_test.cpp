@@ -420,6 +420,49 @@ TEST(RenderTable, ARenderersPrimariesAreComparedOnTheSpacesOwnTerms) {
   }
 }
 
+// pbrt-v4's ACES2065-1 (AP0 primaries, the white of its D60 illuminant): its table's spectra
+// give the renderer's XYZ of AP0 colours under the table's illuminant (D65), as the renderer
+// integrates them. Oracle: the primaries' matrix and the reference integration of test_support.h.
+TEST(RenderTable, AnAcesTableReproducesTheRenderersAp0Colours) {
+  const Observer& obs = Observer::get("cie1931");
+  const Illuminant d60 = Illuminant::get("D60"), d65 = Illuminant::get("D65");
+  const auto xy = test::chromaticity(test::illuminant_xyz(obs, d60));
+  const test::Mat3 m = test::rgb_to_xyz(0.7347, 0.2653, 0.0, 1.0, 0.0001, -0.077, xy[0], xy[1]);
+  Settings s;
+  s.colorspace = "ACES2065-1";
+  s.mode = ModeChoice::reflectance;
+  s.threads = 2;
+  s.spectral.grid = WavelengthGrid(360, 830, 10);
+  s.rgb_to_xyz = "0.7347,0.2653,0.0,1.0,0.0001,-0.077,D60";
+  const RenderTable t = make_render_table(plan_table(s, "aces.spztab", kFlags), kQuiet);
+  std::vector<std::uint64_t> words;
+  const spz::TableView view = open_view(t, words);
+  ASSERT_TRUE(view.loaded());
+  const Xyz white = test::illuminant_xyz(obs, d65);
+  double worst = 0;
+  int exact = 0;
+  for (const std::array<float, 3>& c : {std::array<float, 3>{0.18f, 0.18f, 0.18f},
+                                        {0.3f, 0.2f, 0.1f},
+                                        {0.1f, 0.25f, 0.15f},
+                                        {0.05f, 0.05f, 0.2f}}) {
+    spz::Spectrum sp;
+    if (view.fetch(c.data(), sp) != SPZ_EXACT) continue;
+    ++exact;
+    Xyz got;
+    for (int nm = 360; nm <= 830; ++nm) {
+      const std::size_t k = static_cast<std::size_t>(nm - 360);
+      const double tau = (nm == 360 || nm == 830) ? 0.5 : 1.0;
+      const double v = spz::eval(sp, static_cast<float>(nm));
+      for (int ch = 0; ch < 3; ++ch) got[ch] += tau * v * d65.spd[k] * obs.cmf[ch][k];
+    }
+    got = Xyz{got.X / white.Y, got.Y / white.Y, got.Z / white.Y};
+    worst = std::max(worst, test::rel_err(got, test::rgb(m, c[0], c[1], c[2])));
+  }
+  EXPECT_EQ(exact, 4);
+  EXPECT_LT(worst, 1e-5);
+  RecordProperty("worst_relative_xyz_error", fmt::format("{:.3g}", worst));
+}
+
 TEST(RenderTable, ARenderersMatrixIsForTheSpaceTheTableIsNamedAfter) {
   Settings s;
   s.colorspace = kRec709;
