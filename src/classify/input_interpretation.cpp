@@ -29,34 +29,10 @@ std::string lower(std::string s) {
   return s;
 }
 
-// The space of the config whose interop ID is `id`: the first of `preferred` (the names the
-// file itself gives: its oiio:ColorSpace, its ICC profile's) with that ID, then the config's
-// roles, the usual names, then any space of the config (so that an alias meaning something else
-// in a studio config is not taken, and "sRGB - Texture" is not read as "sRGB - Display").
+// The space of the config whose interop ID is `id` (colour/colour_space.h), "" when none.
 std::string find_space(const ColourSpaces& spaces, const std::string& id,
                        const std::vector<std::string>& preferred) {
-  std::vector<std::string> candidates = preferred;
-  for (const char* role : {"scene_linear", "rendering", "matte_paint", "color_picking",
-                           "texture_paint", "aces_interchange", "data"})
-    if (const std::string space = spaces.role(role); !space.empty()) candidates.push_back(space);
-  for (std::string_view name : usual_names_of(id)) candidates.emplace_back(name);
-  std::set<std::string> tried;
-  for (const std::string& name : candidates) {
-    try {
-      const std::string space = spaces.resolve(name);
-      if (!tried.insert(space).second) continue;
-      if (spaces.facts(space).interop_id == id) return space;
-    } catch (const Error&) {
-    }
-  }
-  for (const std::string& space : spaces.names()) {
-    if (tried.count(space)) continue;
-    try {
-      if (spaces.facts(space).interop_id == id) return space;
-    } catch (const Error&) {
-    }
-  }
-  return "";
+  return spaces.space_of_interop_id(id, preferred);
 }
 
 // A PNG's colour chunks, read by spectralize itself: OIIO 2.4 does not report cHRM, and OIIO 3

@@ -369,10 +369,41 @@ std::string ColourSpaces::resolve(std::string_view name) const {
   const ConfigPtr& config = config_of(config_);
   auto cs = config->getColorSpace(std::string(name).c_str());
   if (cs) return cs->getName();
+  const bool interop = looks_like_interop_id(name);
+  if (interop)
+    if (std::string space = space_of_interop_id(name); !space.empty()) return space;
   std::string valid;
   for (const auto& d : describe()) valid += "\n  " + d;
-  throw Error("unknown colour space " + quote(name) + " in OCIO config '" + origin_ +
-              "'. Valid names (aliases in brackets):" + valid);
+  throw Error("unknown colour space " + quote(name) + " in OCIO config '" + origin_ + "'" +
+              (interop ? " (no space of it has that interop ID)" : "") +
+              ". Valid names (aliases in brackets):" + valid);
+}
+
+std::string ColourSpaces::space_of_interop_id(std::string_view id,
+                                              const std::vector<std::string>& preferred) const {
+  const ConfigPtr& config = config_of(config_);
+  std::vector<std::string> candidates = preferred;
+  for (const char* r : {"scene_linear", "rendering", "matte_paint", "color_picking",
+                        "texture_paint", "aces_interchange", "data"})
+    if (const std::string space = role(r); !space.empty()) candidates.push_back(space);
+  for (std::string_view name : usual_names_of(id)) candidates.emplace_back(name);
+  std::set<std::string> tried;
+  auto has_id = [&](const std::string& space) {
+    try {
+      return facts(space).interop_id == id;
+    } catch (const Error&) {  // a space OCIO cannot convert has no ID
+      return false;
+    }
+  };
+  for (const std::string& name : candidates) {
+    // By the config's own names only: an interop ID is not looked up again.
+    auto cs = config->getColorSpace(name.c_str());
+    if (!cs || !tried.insert(cs->getName()).second) continue;
+    if (has_id(cs->getName())) return cs->getName();
+  }
+  for (const std::string& space : names())
+    if (!tried.count(space) && has_id(space)) return space;
+  return "";
 }
 
 std::vector<std::string> ColourSpaces::names() const {

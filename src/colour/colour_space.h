@@ -154,9 +154,18 @@ class ColourSpaces {
   /// scene"; else one whose measured primaries and white agree within 2e-4; "" when none is.
   /// Cost: facts() of every space the first time.
   std::string linear_twin(std::string_view space) const;
-  /// The canonical name of a colour space given by name, alias or role (case-insensitive);
-  /// throws Error listing the valid names. Cost: O(spaces).
+  /// The canonical name of a colour space given by name, alias or role (case-insensitive), or
+  /// by a Color Interop Forum ID no space is named ("lin_ap1_scene", as OpenUSD and OIIO 3 name
+  /// spaces: space_of_interop_id); throws Error listing the valid names. Cost: O(spaces); an
+  /// interop ID, the facts of the spaces tried.
   std::string resolve(std::string_view name) const;
+  /// The space whose interop ID (stated or measured) is `id`: the first of `preferred` with it,
+  /// then the config's roles, the names configs usually give it (known_spaces.h), then any
+  /// space (so that an alias meaning something else in a studio config is not taken, and
+  /// "sRGB - Texture" is not read as "sRGB - Display"); "" when none has it. Cost: the facts
+  /// of the spaces tried.
+  std::string space_of_interop_id(std::string_view id,
+                                  const std::vector<std::string>& preferred = {}) const;
   /// Every colour-space name (canonical). Cost: O(spaces).
   std::vector<std::string> names() const;
   /// Every colour-space name with its aliases, "Name (alias1, alias2)". Cost: O(spaces).

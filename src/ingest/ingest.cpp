@@ -208,6 +208,8 @@ class FileIngest {
       }
       JobPlan file_plan = batch_.plan.job;
       file_plan.settings = s;
+      // A space its list line names, resolved and checked as the command line's are.
+      resolve_colour_spaces(file_plan);
       if (const std::string data_reason = decide(file_plan); !data_reason.empty())
         return as_data(data_reason);
       // Up to date: the key recorded in the output's header, of the settings as resolved.

@@ -43,6 +43,8 @@ std::shared_ptr<const ColourSpaces> load_config(const Settings& s, const OptionN
   }
 }
 
+}  // namespace
+
 // The one place a colour-space name given by the user is resolved: into the plan's records,
 // the settings keeping the canonical names. Every space named by an option is checked before
 // any work, the same way.
@@ -56,6 +58,8 @@ void resolve_colour_spaces(JobPlan& plan) {
   if (plan.colorspace) s.colorspace = plan.colorspace.name();
   if (plan.preview_colorspace) s.preview_colorspace = plan.preview_colorspace.name();
 }
+
+namespace {
 
 // A plan of the checked settings with the config loaded and the named spaces resolved.
 JobPlan plan_of(Settings s, const OptionNames& names, bool to_rgb) {

@@ -70,6 +70,12 @@ enum class ColourSubject {
 /// per process for the same file: colour/colour_space.h).
 JobPlan plan_to_spectral(Settings settings, const std::string& output, const OptionNames& names);
 
+/// Resolves the spaces `plan.settings` names (colorspace, preview_colorspace: names, aliases,
+/// roles or interop IDs) into the plan's NamedSpace records, the settings keeping the canonical
+/// names; throws Error as ColourSpaces::named(), naming the option. The planning functions call
+/// it; a batch calls it again for a file whose list line names its own. Cost: facts() of each.
+void resolve_colour_spaces(JobPlan& plan);
+
 /// Spectral -> RGB: an output format of the table (imagefile/output_formats.h) that stores the
 /// sample type, compression and tiles asked; colorspace or display (not both), view only with
 /// display, each existing. Without `format_given`, formats that store integers (PNG, TIFF, JPEG,

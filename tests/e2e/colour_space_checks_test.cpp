@@ -208,6 +208,11 @@ TEST(ColourSpaceChecks, ReportsAndManifestsNameTheSpacesInteropIdAndEncoding) {
   expect_identity(log, nullptr, nullptr, "log");
   const Json cg = Json::parse(run("--color 0.4,0.4,0.4 --format json --colorspace ACEScg").out);
   expect_identity(cg, "lin_ap1_scene", "measured", "scene-linear");
+  // An interop ID names the space that has it, as OpenUSD and OIIO 3 name spaces.
+  const Json by_id =
+      Json::parse(run("--color 0.4,0.4,0.4 --format json --colorspace lin_ap1_scene").out);
+  EXPECT_EQ(by_id.at("colorspace"), "ACEScg");
+  EXPECT_EQ(by_id.at("xyz"), cg.at("xyz"));
 }
 
 }  // namespace

@@ -148,6 +148,28 @@ TEST(ColourSpace, EverySpaceOfRealConfigsIsUsable) {
   }
 }
 
+// A Color Interop Forum ID names a space wherever a name does (as OpenUSD and OIIO 3 name
+// spaces): the config's space with that ID, stated or measured; an ID no space has is unknown.
+// Oracle: the spaces' published primaries and curves (the shipped and ACES configs' names).
+TEST(ColourSpace, AnInteropIdNamesTheSpaceThatHasIt) {
+  const ColourSpaces shipped = ColourSpaces::load();
+  const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
+  const std::pair<std::string, std::string> cases[] = {
+      {"lin_ap1_scene", "ACEScg"},
+      {"lin_ap0_scene", "ACES2065-1"},
+      {"lin_rec2020_scene", "Linear Rec.2020"},
+      {"srgb_rec709_scene", "sRGB - Texture"},
+      {"lin_rec709_scene", "Linear Rec.709 (sRGB)"}};
+  for (const auto& [id, name] : cases) {
+    EXPECT_EQ(shipped.resolve(id), name) << id;
+    EXPECT_EQ(aces.resolve(id), name) << id;
+    EXPECT_EQ(shipped.named(id).name(), name) << id;
+  }
+  EXPECT_EQ(aces.resolve("srgb_rec709_display"), "sRGB - Display");
+  const std::string msg = test::error_message([&] { shipped.resolve("pq_rec2020_display"); });
+  EXPECT_NE(msg.find("no space of it has that interop ID"), std::string::npos) << msg;
+}
+
 TEST(ColourSpace, InteropIdsSayDisplayReferred) {
   const ColourSpaces aces = ColourSpaces::load(kAcesConfig);
   EXPECT_TRUE(aces.is_display_referred("sRGB - Display"));
