@@ -5,7 +5,8 @@
 
 namespace spectralize::embedded {
 extern const std::string_view kMitsubaPlugins;  // python/mitsuba_plugins.py
-}
+extern const std::string_view kUsdStages;       // python/usd_stages.py
+}  // namespace spectralize::embedded
 
 namespace py = pybind11;
 
@@ -30,6 +31,7 @@ void add_submodule(py::module_& m, const char* name, std::string_view source, co
 
 void add_python_submodules(py::module_& m) {
   add_submodule(m, "mitsuba", embedded::kMitsubaPlugins, "spectralize/mitsuba.py");
+  add_submodule(m, "usd", embedded::kUsdStages, "spectralize/usd.py");
 }
 
 }  // namespace spectralize::python

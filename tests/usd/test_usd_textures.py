@@ -1,0 +1,173 @@
+"""spectralize.usd.textures(): every texture file of an OpenUSD stage decided as a TD would.
+Stages are written here with pxr (never checked in, never made by the code under test), and
+each file's decision is checked against the expectation written in the test: colour spaces
+declared on the root and overridden on a material, sourceColorSpace 'raw' and 'sRGB', an
+emissive texture, a DomeLight with an HDRI, UDIM tiles, a material in a referenced layer, a
+missing asset, a stage that declares nothing."""
+import os
+import pathlib
+import shutil
+
+import pytest
+
+pxr = pytest.importorskip("pxr")
+from pxr import Sdf, Usd, UsdLux, UsdShade  # noqa: E402
+
+SOURCE = pathlib.Path(__file__).resolve().parents[2]
+IMAGES = SOURCE / "testimages"
+
+
+@pytest.fixture(scope="module")
+def usd():
+    import spectralize.usd
+    return spectralize.usd
+
+
+def texture(stage, path, file, source_space=None):
+    t = UsdShade.Shader.Define(stage, path)
+    t.CreateIdAttr("UsdUVTexture")
+    t.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(file)
+    if source_space:
+        t.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source_space)
+    return t
+
+
+def feed(surface, name, type_name, tex, output="rgb"):
+    surface.CreateInput(name, type_name).ConnectToSource(tex.ConnectableAPI(), output)
+
+
+def copy(folder, *names):
+    for name in names:
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / name)
+
+
+@pytest.fixture
+def studio(tmp_path):
+    """A stage: lin_ap1_scene on the root, lin_rec2020_scene on one material, a material in a
+    referenced layer, a DomeLight, UDIM tiles, a raw normal map and a missing file."""
+    copy(tmp_path, "albedo.png", "normal.png", "glow.png", "rough.1001.png", "rough.1002.png",
+         "paint.png")
+    (tmp_path / "assets").mkdir()
+    copy(tmp_path / "assets", "prop.png")
+    shutil.copy(IMAGES / "hdri_sunset_256x128.exr", tmp_path / "sky.exr")
+    # The referenced layer: a material whose texture path is relative to that layer.
+    prop = Usd.Stage.CreateNew(str(tmp_path / "assets" / "prop.usda"))
+    UsdShade.Material.Define(prop, "/Prop")
+    prop.SetDefaultPrim(prop.GetPrimAtPath("/Prop"))
+    surface = UsdShade.Shader.Define(prop, "/Prop/Surface")
+    surface.CreateIdAttr("UsdPreviewSurface")
+    feed(surface, "diffuseColor", Sdf.ValueTypeNames.Color3f, texture(prop, "/Prop/Tex", "prop.png"))
+    prop.Save()
+
+    stage = Usd.Stage.CreateNew(str(tmp_path / "scene.usda"))
+    world = stage.DefinePrim("/World", "Xform")
+    stage.SetDefaultPrim(world)
+    Usd.ColorSpaceAPI.Apply(world).CreateColorSpaceNameAttr("lin_ap1_scene")
+    UsdShade.Material.Define(stage, "/World/Mat")
+    s = UsdShade.Shader.Define(stage, "/World/Mat/Surface")
+    s.CreateIdAttr("UsdPreviewSurface")
+    feed(s, "diffuseColor", Sdf.ValueTypeNames.Color3f, texture(stage, "/World/Mat/Albedo", "albedo.png", "sRGB"))
+    feed(s, "normal", Sdf.ValueTypeNames.Normal3f, texture(stage, "/World/Mat/Normal", "normal.png", "raw"))
+    feed(s, "emissiveColor", Sdf.ValueTypeNames.Color3f, texture(stage, "/World/Mat/Glow", "glow.png"))
+    feed(s, "roughness", Sdf.ValueTypeNames.Float, texture(stage, "/World/Mat/Rough", "rough.<UDIM>.png"), "r")
+    # A material that declares its own space.
+    painted = UsdShade.Material.Define(stage, "/World/Painted")
+    Usd.ColorSpaceAPI.Apply(painted.GetPrim()).CreateColorSpaceNameAttr("lin_rec2020_scene")
+    p = UsdShade.Shader.Define(stage, "/World/Painted/Surface")
+    p.CreateIdAttr("UsdPreviewSurface")
+    feed(p, "diffuseColor", Sdf.ValueTypeNames.Color3f, texture(stage, "/World/Painted/Tex", "paint.png"))
+    # A texture whose file is missing.
+    texture(stage, "/World/Mat/Missing", "nope.png")
+    # A DomeLight, and the referenced material.
+    UsdLux.DomeLight.Define(stage, "/World/Sky").CreateTextureFileAttr("sky.exr")
+    stage.DefinePrim("/World/Prop").GetReferences().AddReference("./assets/prop.usda")
+    stage.Save()
+    return tmp_path
+
+
+def by_file(records):
+    return {os.path.basename(r.get("input", r["asset"])): r for r in records}
+
+
+def test_each_texture_is_decided_by_what_the_stage_declares_and_what_it_feeds(usd, studio):
+    records = usd.textures(studio / "scene.usda")
+    got = {name: (r.get("colorspace"), r.get("mode")) for name, r in by_file(records).items()}
+    assert got == {
+        "albedo.png": ("srgb_rec709_scene", "reflectance"),  # sourceColorSpace sRGB wins
+        "normal.png": ("data", "data"),                      # raw
+        "glow.png": ("lin_ap1_scene", "emission"),           # the root's space, an emissive input
+        "rough.1001.png": ("lin_ap1_scene", "data"),         # UDIM tiles feeding roughness
+        "rough.1002.png": ("lin_ap1_scene", "data"),
+        "paint.png": ("lin_rec2020_scene", "reflectance"),   # the material's own space
+        "nope.png": ("lin_ap1_scene", None),                 # missing: a failure
+        "sky.exr": ("lin_ap1_scene", "emission"),            # a DomeLight's texture
+        "prop.png": ("lin_ap1_scene", "reflectance"),        # through the reference
+    }
+    r = by_file(records)
+    # Files resolved where the layer that names them is; each decision says where it came from.
+    assert r["prop.png"]["input"] == str(studio / "assets" / "prop.png")
+    assert r["rough.1002.png"]["input"] == str(studio / "rough.1002.png")
+    assert r["paint.png"]["colorspace_reason"] == \
+        "colorSpace:name 'lin_rec2020_scene' of </World/Painted> (UsdColorSpaceAPI)"
+    assert r["albedo.png"]["feeds"] == ["</World/Mat/Surface>.inputs:diffuseColor"]
+    assert r["albedo.png"]["prim"] == "/World/Mat/Albedo"
+    assert "inputs:normal" in r["normal.png"]["feeds"][0]
+    assert r["nope.png"]["failure"] == "/World/Mat/Missing.inputs:file: asset 'nope.png' not found"
+    assert "input" not in r["nope.png"]
+
+
+def test_list_lines_carry_the_decisions_ingest_takes(usd, studio):
+    lines = [usd.list_line(r) for r in usd.textures(studio / "scene.usda")]
+    by = {os.path.basename(line["input"]): line for line in lines if line}
+    assert by["albedo.png"] == {"input": str(studio / "albedo.png"),
+                                "colorspace": "srgb_rec709_scene", "mode": "reflectance"}
+    assert by["normal.png"] == {"input": str(studio / "normal.png"), "colorspace": "data"}
+    assert by["sky.exr"]["mode"] == "emission"
+    assert len(lines) - len(by) == 1  # the missing file has no line
+
+
+def test_a_stage_that_declares_nothing_leaves_the_files_to_decide(usd, tmp_path):
+    copy(tmp_path, "a.png")
+    stage = Usd.Stage.CreateNew(str(tmp_path / "plain.usda"))
+    UsdShade.Material.Define(stage, "/M")
+    s = UsdShade.Shader.Define(stage, "/M/S")
+    s.CreateIdAttr("UsdPreviewSurface")
+    feed(s, "diffuseColor", Sdf.ValueTypeNames.Color3f, texture(stage, "/M/T", "a.png"))
+    stage.Save()
+    [r] = usd.textures(tmp_path / "plain.usda")
+    assert r["colorspace"] is None and r["mode"] == "reflectance"
+    assert usd.list_line(r) == {"input": str(tmp_path / "a.png"), "mode": "reflectance"}
+
+
+def test_a_stage_that_cannot_be_opened_is_named(usd, tmp_path):
+    with pytest.raises(OSError, match="missing.usda"):
+        usd.textures(tmp_path / "missing.usda")
+    (tmp_path / "broken.usda").write_text("#usda 1.0\n( this is not usd\n")
+    with pytest.raises(OSError, match="broken.usda"):
+        usd.textures(tmp_path / "broken.usda")
+
+
+def manifest(folder):
+    import json
+    return {os.path.basename(r["input"]): r
+            for r in map(json.loads, (folder / "spectralize-ingest.jsonl").read_text().splitlines())
+            if "input" in r}
+
+
+def test_a_stage_is_ingested_with_its_decisions(usd, studio, tmp_path_factory):
+    """Each file converted as the stage decides it (interop IDs resolved to the config's
+    spaces: lin_ap1_scene is the shipped config's ACEScg), data skipped, a rerun converts
+    nothing; the missing asset is named with its prim."""
+    out = tmp_path_factory.mktemp("out")
+    summary = usd.ingest(studio / "scene.usda", out, wavelengths="400:700:20")
+    m = manifest(out)
+    assert (m["albedo.png"]["colorspace"], m["albedo.png"]["mode"]) == ("sRGB - Texture", "reflectance")
+    assert (m["glow.png"]["colorspace"], m["glow.png"]["mode"]) == ("ACEScg", "emission")
+    assert (m["paint.png"]["colorspace"], m["paint.png"]["mode"]) == ("Linear Rec.2020", "reflectance")
+    assert (m["sky.exr"]["colorspace"], m["sky.exr"]["mode"]) == ("ACEScg", "emission")
+    assert m["prop.png"]["status"] == "converted"
+    for data in ("normal.png", "rough.1001.png", "rough.1002.png"):
+        assert m[data]["status"] == "skipped_data", m[data]
+    assert [r["prim"] for r in summary["asset_failures"]] == ["/World/Mat/Missing"]
+    again = usd.ingest(studio / "scene.usda", out, wavelengths="400:700:20")
+    assert again["converted"] == 0 and again["up_to_date"] == summary["converted"]
