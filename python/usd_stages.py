@@ -28,7 +28,7 @@ import os
 import re
 import tempfile
 
-__all__ = ["textures", "list_line", "ingest"]
+__all__ = ["textures", "list_line", "ingest", "lights"]
 
 # What a texture feeds, by the consumer input's name (UsdPreviewSurface, MaterialX
 # standard_surface and OpenPBR spellings).
@@ -249,3 +249,76 @@ def ingest(stage, output, *, force=False, **options):
     summary["textures"] = records
     summary["asset_failures"] = [r for r in records if "failure" in r]
     return summary
+
+
+# The CIE D-series illuminant at the white of a space's primaries (the interop ID's middle
+# part): D65 for the D65 spaces; the ACES white is no D-series white, D60 is the nearest.
+D_SERIES_WHITE = {"rec709": "D65", "rec2020": "D65", "p3d65": "D65", "adobergb": "D65",
+                  "ciexyzd65": "D65", "ap1": "D60", "ap0": "D60"}
+
+
+def lights(stage, **options):
+    """The emission spectrum of every UsdLux light of `stage` (a path or a Usd.Stage), as UsdLux
+    asks: inputs:color (in the UsdColorSpaceAPI space in force at the light, else
+    lin_rec709_scene) times inputs:intensity times 2^inputs:exposure, with the CIE D-series
+    illuminant at the space's white as the emission basis (spectralize.spectra(), mode
+    emission): white (1, 1, 1) is that illuminant itself and every colour is reproduced
+    exactly, white-balanced to it (D65 for the D65 spaces; D60 for ACES, whose white is no
+    D-series white: the record says so). options:
+    spectra()'s (wavelengths, model, config, ...). Each record: "prim", "type", "colorspace",
+    "colorspace_reason", "color", "scale", "basis", "basis_reason", "wavelengths", "values"
+    (NumPy arrays); a light that cannot be made has "failure" instead (a negative colour, a
+    colour temperature, a space whose white no D-series illuminant is, a space the config has
+    no space for). An option spectra() refuses raises for the first light. Cost: composing the
+    stage, one spectrum per light."""
+    import numpy as np
+    import spectralize
+
+    _, Usd, UsdLux, _ = _pxr()
+    stage = _open(stage)
+    out = []
+    for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
+        if not prim.HasAPI(UsdLux.LightAPI):
+            continue
+        light = UsdLux.LightAPI(prim)
+        r = {"prim": str(prim.GetPath()), "type": str(prim.GetTypeName())}
+        declared, declarer = _declared_space(prim)
+        if declared:
+            r["colorspace"] = declared
+            r["colorspace_reason"] = "colorSpace:name '%s' of <%s> (UsdColorSpaceAPI)" % (
+                declared, declarer.GetPath())
+        else:
+            r["colorspace"] = "lin_rec709_scene"
+            r["colorspace_reason"] = "the stage declares none: OpenUSD's default, lin_rec709_scene"
+        colour = light.GetColorAttr().Get()
+        r["color"] = [float(c) for c in (colour if colour is not None else (1.0, 1.0, 1.0))]
+        intensity = light.GetIntensityAttr().Get()
+        exposure = light.GetExposureAttr().Get()
+        r["scale"] = float(1.0 if intensity is None else intensity) * 2.0 ** float(
+            0.0 if exposure is None else exposure)
+        parts = r["colorspace"].split("_")
+        r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
+        failure = None
+        if light.GetEnableColorTemperatureAttr().Get():
+            failure = "inputs:enableColorTemperature: a colour temperature is not made yet"
+        elif min(r["color"]) < 0 or r["scale"] < 0:
+            failure = "a negative colour or intensity: no light has it"
+        elif r["basis"] is None:
+            failure = "colour space '%s': no CIE D-series illuminant is known at its white" % (
+                r["colorspace"])
+        if failure:
+            r["failure"] = "<%s>: %s" % (r["prim"], failure)
+            out.append(r)
+            continue
+        r["basis_reason"] = ("the D-series illuminant at the space's white" if r["basis"] == "D65"
+                             else "the ACES white is no D-series white: D60, the nearest "
+                                  "(colours are white-balanced to it: white light is D60)")
+        rgb = np.asarray(r["color"], dtype=np.float64) * r["scale"]
+        try:
+            r["wavelengths"], r["values"] = spectralize.spectra(
+                rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
+                **options)
+        except ValueError as e:  # a space the config lacks: this light's failure
+            r["failure"] = "<%s>: %s" % (r["prim"], str(e).split(". Valid names")[0])
+        out.append(r)
+    return out

@@ -1,0 +1,132 @@
+"""spectralize.usd.lights(): UsdLux lights as emission spectra. Oracles written here from the
+project's CSV tables (NumPy, 1 nm, never the library's weights): the reference integration of
+docs/DESIGN.md §3 (the trapezoid rule over 360-830 nm of the piecewise-linear spectrum, Y
+relative to the integral of ybar), the spaces' matrices from their published primaries and
+whites, the CIE D65 table and the D-series from the CIE S0, S1, S2 basis; the white balance
+of docs/DESIGN.md §3 (XYZ scaling from the space's white to the basis's)."""
+import pathlib
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pxr")
+from pxr import Gf, Usd, UsdLux  # noqa: E402
+
+DATA = pathlib.Path(__file__).resolve().parents[2] / "data"
+
+
+def table(name):
+    t = np.loadtxt(DATA / name, delimiter=",", skiprows=1)
+    return t[:, 0], t[:, 1:]
+
+
+NM, CMF = table("cie1931_2deg_cmf_1nm.csv")
+TAU = np.ones_like(NM)
+TAU[0] = TAU[-1] = 0.5
+K = np.sum(TAU * CMF[:, 1])
+
+
+def xyz(values, wavelengths):
+    s = np.interp(NM, wavelengths, values, left=0.0, right=0.0)
+    return (s * TAU) @ CMF / K
+
+
+def xyz_of_xy(x, y):
+    return np.array([x / y, 1.0, (1 - x - y) / y])
+
+
+def rgb_to_xyz(primaries, white):
+    p = np.stack([xyz_of_xy(*xy) for xy in primaries], axis=1)
+    return p * np.linalg.solve(p, xyz_of_xy(*white))
+
+
+def bradford(src, dst):
+    b = np.array([[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367], [0.0389, -0.0685, 1.0296]])
+    return np.linalg.inv(b) @ np.diag((b @ dst) / (b @ src)) @ b
+
+
+ACES_WHITE = (0.32168, 0.33767)
+SPACES = {  # interop ID: RGB -> XYZ (D65-referred, as the configs adapt)
+    "lin_rec709_scene": rgb_to_xyz([(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)], (0.3127, 0.3290)),
+    "lin_rec2020_scene": rgb_to_xyz([(0.708, 0.292), (0.170, 0.797), (0.131, 0.046)],
+                                    (0.3127, 0.3290)),
+    "lin_ap1_scene": bradford(xyz_of_xy(*ACES_WHITE), xyz_of_xy(0.3127, 0.3290))
+    @ rgb_to_xyz([(0.713, 0.293), (0.165, 0.830), (0.128, 0.044)], ACES_WHITE),
+}
+
+
+def d_series(cct, wavelengths):
+    """CIE 15: the daylight locus and the S0 + M1 S1 + M2 S2 basis (linear between 5 nm)."""
+    t = cct * 1.4388 / 1.4380
+    x = (-4.6070e9 / t**3 + 2.9678e6 / t**2 + 0.09911e3 / t + 0.244063 if t <= 7000 else
+         -2.0064e9 / t**3 + 1.9018e6 / t**2 + 0.24748e3 / t + 0.237040)
+    y = -3.000 * x * x + 2.870 * x - 0.275
+    m = 0.0241 + 0.2562 * x - 0.7341 * y
+    m1, m2 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m, (0.0300 - 31.4424 * x + 30.0717 * y) / m
+    nm, s = table("cie_daylight_basis_s0_s1_s2_5nm.csv")
+    return np.interp(wavelengths, nm, s[:, 0] + m1 * s[:, 1] + m2 * s[:, 2])
+
+
+def light_stage(space=None):
+    stage = Usd.Stage.CreateInMemory()
+    root = stage.DefinePrim("/World", "Xform")
+    if space:
+        Usd.ColorSpaceAPI.Apply(root).CreateColorSpaceNameAttr(space)
+    white = UsdLux.RectLight.Define(stage, "/World/White")
+    white.CreateIntensityAttr(3.0)
+    white.CreateExposureAttr(-1.0)
+    coloured = UsdLux.SphereLight.Define(stage, "/World/Warm")
+    coloured.CreateColorAttr(Gf.Vec3f(0.9, 0.5, 0.2))
+    coloured.CreateIntensityAttr(10.0)
+    return stage
+
+
+@pytest.mark.parametrize("space", [None, "lin_rec709_scene", "lin_rec2020_scene", "lin_ap1_scene"])
+def test_each_light_reproduces_colour_times_intensity_times_two_to_the_exposure(space):
+    import spectralize.usd
+    records = {r["prim"]: r for r in spectralize.usd.lights(light_stage(space))}
+    m = SPACES[space or "lin_rec709_scene"]
+    records_basis = records["/World/White"]["basis"]
+    if records_basis == "D65":
+        d65_nm, d65 = table("cie_illuminant_d65_1nm.csv")
+        basis = np.interp(NM, d65_nm, d65[:, 0])
+    else:
+        basis = d_series(6000, NM)
+    # The basis as the spectra have it: its samples on their grid, piecewise linear.
+    grid = records["/World/White"]["wavelengths"]
+    w_basis = xyz(np.interp(grid, NM, basis), grid)
+    balance = (w_basis / w_basis[1]) / (m @ np.ones(3))
+    for prim, rgb, scale in [("/World/White", (1, 1, 1), 1.5), ("/World/Warm", (0.9, 0.5, 0.2), 10.0)]:
+        r = records[prim]
+        assert r["scale"] == scale
+        want = balance * (m @ (np.array(rgb) * scale))
+        got = xyz(r["values"], r["wavelengths"])
+        assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5, (prim, got, want)
+    # White light is the D-series illuminant itself (its shape): the CIE D65 table for the
+    # D65 spaces, the D-series at 6000 K for ACES (whose white is none: the record says so).
+    white = records["/World/White"]
+    if space == "lin_ap1_scene":
+        assert white["basis"] == "D60" and "no D-series white" in white["basis_reason"]
+    else:
+        assert white["basis"] == "D65"
+    ratio = white["values"] / np.interp(white["wavelengths"], NM, basis)
+    assert np.max(np.abs(ratio / ratio.mean() - 1)) <= 1e-6
+
+
+def test_lights_that_cannot_be_made_are_named():
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    UsdLux.DiskLight.Define(stage, "/Neg").CreateColorAttr(Gf.Vec3f(-0.1, 0.5, 0.5))
+    warm = UsdLux.DiskLight.Define(stage, "/Warm")
+    warm.CreateEnableColorTemperatureAttr(True)
+    warm.CreateColorTemperatureAttr(3200.0)
+    odd = UsdLux.DiskLight.Define(stage, "/Odd")  # a space the shipped config has none of
+    Usd.ColorSpaceAPI.Apply(odd.GetPrim()).CreateColorSpaceNameAttr("pq_rec2020_display")
+    UsdLux.DiskLight.Define(stage, "/Fine")
+    records = spectralize.usd.lights(stage)
+    failures = {r["prim"]: r["failure"] for r in records if "failure" in r}
+    assert "negative" in failures["/Neg"]
+    assert "colour temperature" in failures["/Warm"]
+    assert failures["/Odd"].startswith("</Odd>: ") and "pq_rec2020_display" in failures["/Odd"]
+    assert set(failures) == {"/Neg", "/Warm", "/Odd"}  # the others are made
+    assert [r["prim"] for r in records if "values" in r] == ["/Fine"]
