@@ -226,18 +226,96 @@ def list_line(record):
     return line
 
 
+# The options of ingest() that shape a light's spectrum too (spectra() takes them).
+LIGHT_OPTIONS = ("wavelengths", "observer", "model", "filter", "curvature", "config")
+
+
+def _write_atomically(path, write):
+    """Writes `path` through a temporary beside it, renamed when complete."""
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".spectralize-", suffix=os.path.splitext(path)[1],
+                               dir=folder)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def _light_file_name(prim):
+    return prim.strip("/").replace("/", "__") or "root"
+
+
+def _custom(spec, name, type_name):
+    """A custom attribute `name` of type Sdf.ValueTypeNames.<type_name> on the prim spec."""
+    Sdf, _, _, _ = _pxr()
+    return Sdf.AttributeSpec(spec, name, getattr(Sdf.ValueTypeNames, type_name),
+                             Sdf.VariabilityVarying, True)
+
+
+def _override_layer(path, root_layer, textures_done, light_records):
+    """spectral.usda: the original stage as a sublayer, and overs that only add attributes in
+    the spectralize: namespace (docs/guide/files.md)."""
+    Sdf, _, _, _ = _pxr()
+    folder = os.path.dirname(os.path.abspath(path))
+
+    def write(tmp):
+        layer = Sdf.Layer.CreateAnonymous(".usda")
+        layer.subLayerPaths.append(os.path.relpath(root_layer, folder))
+        for prim, entries in textures_done.items():
+            spec = Sdf.CreatePrimInLayer(layer, prim)
+            spec.specifier = Sdf.SpecifierOver
+            outputs = [os.path.relpath(e["output"], folder) for e in entries]
+            if len(outputs) == 1:
+                attr = _custom(spec, "spectralize:file", "Asset")
+                attr.default = Sdf.AssetPath(outputs[0])
+            else:  # UDIM tiles
+                attr = _custom(spec, "spectralize:files", "AssetArray")
+                attr.default = Sdf.AssetPathArray(outputs)
+            for key in ("mode", "colorspace"):
+                a = _custom(spec, "spectralize:" + key, "String")
+                a.default = str(entries[0][key])
+        for r in light_records:
+            if "values" not in r:
+                continue
+            spec = Sdf.CreatePrimInLayer(layer, r["prim"])
+            spec.specifier = Sdf.SpecifierOver
+            for key, values in (("wavelengths", r["wavelengths"]), ("values", r["values"])):
+                a = _custom(spec, "spectralize:" + key, "FloatArray")
+                a.default = [float(v) for v in values]
+            a = _custom(spec, "spectralize:basis", "String")
+            a.default = r["basis"]
+        if not layer.Export(tmp):
+            raise OSError("'%s': OpenUSD cannot write the layer" % path)
+
+    _write_atomically(path, write)
+
+
 def ingest(stage, output, *, force=False, **options):
     """The textures of `stage` (textures()) converted into the folder `output` as
     spectralize.ingest() converts files: each with the colour space and mode the stage decides
     (a data map skipped, a file the stage says nothing of decided by its own tags and the
-    config), incrementally, with ingest's manifest. options: ingest's (config, wavelengths,
-    model, ...); a setting the stage decides for a file (colorspace, mode) is the stage's.
-    Returns ingest's summary with "textures" (the records of textures(), the stage's
-    decisions with their prim paths and reasons) and "asset_failures" (those whose file is
-    missing). Cost: composing the stage, then ingest's."""
+    config), incrementally, with ingest's manifest; its lights (lights()) as spectra, one JSON
+    file each under output/lights/; and output/spectral.usda, a layer with the stage as its
+    sublayer that only adds attributes in the spectralize: namespace: each converted texture's
+    spectral file (spectralize:file, or spectralize:files for UDIM tiles), its mode and colour
+    space, each light's spectralize:wavelengths, spectralize:values and spectralize:basis (the
+    original files are never written). options: ingest's (config, wavelengths, model, ...); a
+    setting the stage decides for a file (colorspace, mode) is the stage's. Returns ingest's
+    summary with "textures" (the stage's decisions with their prim paths and reasons),
+    "asset_failures" (textures whose file is missing), "lights" and "light_failures", and
+    "layer". Cost: composing the stage, then ingest's, one spectrum per light."""
     import spectralize
 
-    records = textures(stage)
+    Sdf, Usd, _, _ = _pxr()
+    opened = _open(stage)
+    root_layer = opened.GetRootLayer().realPath
+    if not root_layer:
+        raise ValueError("ingest(): the stage has no file (an in-memory stage): save it first")
+    records = textures(opened)
     lines = [list_line(r) for r in records]
     with tempfile.TemporaryDirectory(prefix="spectralize-usd-") as folder:
         listing = os.path.join(folder, "inputs.jsonl")
@@ -246,8 +324,45 @@ def ingest(stage, output, *, force=False, **options):
                 if line:
                     f.write(json.dumps(line) + "\n")
         summary = spectralize.ingest([], output, inputs_from=listing, force=force, **options)
+    # What each file became, from ingest's own manifest.
+    manifest = os.path.join(output, "spectralize-ingest.jsonl")
+    done = {}
+    with open(manifest, encoding="utf-8") as f:
+        for line in f:
+            m = json.loads(line)
+            if m.get("status") in ("converted", "up_to_date") and "output" in m:
+                done[os.path.abspath(m["input"])] = m
+    textures_done = {}
+    for r in records:
+        m = done.get(os.path.abspath(r["input"])) if "input" in r else None
+        if m:
+            r["output"] = os.path.abspath(m["output"])
+            textures_done.setdefault(r["prim"], []).append(
+                {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace")})
+    light_records = lights(opened, **{k: v for k, v in options.items() if k in LIGHT_OPTIONS})
+    light_folder = os.path.join(output, "lights")
+    for r in light_records:
+        if "values" not in r:
+            continue
+        os.makedirs(light_folder, exist_ok=True)
+        r["file"] = os.path.join(light_folder, _light_file_name(r["prim"]) + ".json")
+        payload = {k: v for k, v in r.items() if k not in ("wavelengths", "values", "file")}
+        payload["wavelengths_nm"] = [float(v) for v in r["wavelengths"]]
+        payload["values"] = [float(v) for v in r["values"]]
+
+        def write(tmp, payload=payload):
+            with open(tmp, "w", encoding="utf-8") as f:
+                json.dump(payload, f, indent=1)
+                f.write("\n")
+
+        _write_atomically(r["file"], write)
+    layer = os.path.join(output, "spectral.usda")
+    _override_layer(layer, root_layer, textures_done, light_records)
     summary["textures"] = records
     summary["asset_failures"] = [r for r in records if "failure" in r]
+    summary["lights"] = light_records
+    summary["light_failures"] = [r for r in light_records if "failure" in r]
+    summary["layer"] = layer
     return summary
 
 

@@ -171,3 +171,44 @@ def test_a_stage_is_ingested_with_its_decisions(usd, studio, tmp_path_factory):
     assert [r["prim"] for r in summary["asset_failures"]] == ["/World/Mat/Missing"]
     again = usd.ingest(studio / "scene.usda", out, wavelengths="400:700:20")
     assert again["converted"] == 0 and again["up_to_date"] == summary["converted"]
+
+
+def test_the_override_layer_composes_over_the_stage_and_names_the_spectra(usd, studio, tmp_path_factory):
+    """spectral.usda opens in pxr, has the stage as its sublayer, adds only spectralize:
+    attributes (the original's own untouched), names files that exist; the lights' spectra
+    are there and in lights/; the original layers are not written."""
+    import json
+    before = {p: p.stat().st_mtime_ns for p in studio.rglob("*.usda")}
+    out = tmp_path_factory.mktemp("out")
+    summary = usd.ingest(studio / "scene.usda", out, wavelengths="400:700:20")
+    assert {p: p.stat().st_mtime_ns for p in studio.rglob("*.usda")} == before
+    stage = Usd.Stage.Open(str(out / "spectral.usda"))
+    layer = stage.GetRootLayer()
+    assert [os.path.normpath(os.path.join(out, p)) for p in layer.subLayerPaths] == \
+        [str(studio / "scene.usda")]
+    albedo = stage.GetPrimAtPath("/World/Mat/Albedo")
+    spectral = albedo.GetAttribute("spectralize:file").Get()
+    assert os.path.isfile(spectral.resolvedPath) and spectral.resolvedPath.endswith("albedo.exr")
+    assert albedo.GetAttribute("spectralize:mode").Get() == "reflectance"
+    # The original's inputs compose unchanged; data maps get no spectral file.
+    assert UsdShade.Shader(albedo).GetInput("file").Get().path == "albedo.png"
+    assert not stage.GetPrimAtPath("/World/Mat/Normal").GetAttribute("spectralize:file")
+    # Through the reference too.
+    prop = stage.GetPrimAtPath("/World/Prop/Tex").GetAttribute("spectralize:file").Get()
+    assert os.path.isfile(prop.resolvedPath)
+    # Only spectralize: attributes are authored by the layer.
+    for spec in layer.rootPrims:
+        for prim in [spec] + list(spec.nameChildren):
+            def walk(p):
+                for a in p.attributes:
+                    assert a.name.startswith("spectralize:"), a.name
+                for c in p.nameChildren:
+                    walk(c)
+            walk(prim)
+    # The DomeLight's spectrum: the same in the layer and in its JSON file.
+    sky = stage.GetPrimAtPath("/World/Sky")
+    values = list(sky.GetAttribute("spectralize:values").Get())
+    assert len(values) == len(sky.GetAttribute("spectralize:wavelengths").Get()) == 16
+    [light] = [r for r in summary["lights"] if r["prim"] == "/World/Sky"]
+    assert json.loads(pathlib.Path(light["file"]).read_text())["values"] == pytest.approx(values)
+    assert not list(out.rglob(".spectralize-*"))  # no temporaries left
