@@ -67,6 +67,19 @@ def _open(stage):
     return opened
 
 
+def _space_in_force(prim, undeclared, undeclared_reason):
+    """The colour space the stage declares for `prim` (UsdColorSpaceAPI, "data" for a data
+    space) and why; (`undeclared`, `undeclared_reason`) where it declares none."""
+    declared, declarer = _declared_space(prim)
+    if not declared:
+        return undeclared, undeclared_reason
+    return ("data" if declared in DATA_SPACES else declared,
+            "colorSpace:name '%s' of <%s> (UsdColorSpaceAPI)" % (declared, declarer.GetPath()))
+
+
+NO_DECLARATION = "the stage declares none: the file's own tags and the config's rules"
+
+
 def _declared_space(prim):
     """The UsdColorSpaceAPI name in force at `prim` and the prim that authors it, or (None,
     None) where no ancestor (the prim included) declares one."""
@@ -144,19 +157,14 @@ def _uv_texture_decision(shader_prim, fed):
     source = shader.GetInput("sourceColorSpace")
     word = str(source.Get()) if source and source.Get() else "auto"
     d = {"feeds": feeds}
-    declared, declarer = _declared_space(shader_prim)
     if word == "raw":
         d["colorspace"], d["colorspace_reason"] = "data", where + ".inputs:sourceColorSpace 'raw'"
     elif word == "sRGB":
         d["colorspace"] = "srgb_rec709_scene"
         d["colorspace_reason"] = where + ".inputs:sourceColorSpace 'sRGB'"
-    elif declared:
-        d["colorspace"] = "data" if declared in DATA_SPACES else declared
-        d["colorspace_reason"] = "colorSpace:name '%s' of <%s> (UsdColorSpaceAPI)" % (
-            declared, declarer.GetPath())
     else:
-        d["colorspace"] = None
-        d["colorspace_reason"] = "the stage declares none: the file's own tags and the config's rules"
+        d["colorspace"], d["colorspace_reason"] = _space_in_force(shader_prim, None,
+                                                                  NO_DECLARATION)
     if d["colorspace"] == "data":
         d["mode"], d["mode_reason"] = "data", "its colour space is data (%s)" % d["colorspace_reason"]
     elif names & EMISSIVE_COLOUR_INPUTS:
@@ -171,17 +179,10 @@ def _uv_texture_decision(shader_prim, fed):
 
 
 def _dome_decision(light_prim):
-    declared, declarer = _declared_space(light_prim)
-    d = {"feeds": [], "mode": "emission",
-         "mode_reason": "the texture of DomeLight <%s>" % light_prim.GetPath()}
-    if declared:
-        d["colorspace"] = "data" if declared in DATA_SPACES else declared
-        d["colorspace_reason"] = "colorSpace:name '%s' of <%s> (UsdColorSpaceAPI)" % (
-            declared, declarer.GetPath())
-    else:
-        d["colorspace"] = None
-        d["colorspace_reason"] = "the stage declares none: the file's own tags and the config's rules"
-    return d
+    colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION)
+    return {"feeds": [], "mode": "emission",
+            "mode_reason": "the texture of DomeLight <%s>" % light_prim.GetPath(),
+            "colorspace": colorspace, "colorspace_reason": reason}
 
 
 def textures(stage):
@@ -397,14 +398,8 @@ def lights(stage, **options):
             continue
         light = UsdLux.LightAPI(prim)
         r = {"prim": str(prim.GetPath()), "type": str(prim.GetTypeName())}
-        declared, declarer = _declared_space(prim)
-        if declared:
-            r["colorspace"] = declared
-            r["colorspace_reason"] = "colorSpace:name '%s' of <%s> (UsdColorSpaceAPI)" % (
-                declared, declarer.GetPath())
-        else:
-            r["colorspace"] = "lin_rec709_scene"
-            r["colorspace_reason"] = "the stage declares none: OpenUSD's default, lin_rec709_scene"
+        r["colorspace"], r["colorspace_reason"] = _space_in_force(
+            prim, "lin_rec709_scene", "the stage declares none: OpenUSD's default, lin_rec709_scene")
         colour = light.GetColorAttr().Get()
         r["color"] = [float(c) for c in (colour if colour is not None else (1.0, 1.0, 1.0))]
         intensity = light.GetIntensityAttr().Get()

@@ -29,12 +29,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-// The space of the config whose interop ID is `id` (colour/colour_space.h), "" when none.
-std::string find_space(const ColourSpaces& spaces, const std::string& id,
-                       const std::vector<std::string>& preferred) {
-  return spaces.space_of_interop_id(id, preferred);
-}
-
 // A PNG's colour chunks, read by spectralize itself: OIIO 2.4 does not report cHRM, and OIIO 3
 // reports gAMA 1.0 only through its own reading of the chunks ("lin_rec709_scene").
 struct PngChunks {
@@ -102,7 +96,7 @@ Stated space_of_chromaticities(const float* xy, const ColourSpaces& spaces) {
   };
   // A known standard's primaries: the space with that interop ID.
   if (const std::string id = interop_id_of_chromaticities(xy); !id.empty()) {
-    const std::string space = find_space(spaces, id, {});
+    const std::string space = spaces.space_of_interop_id(id);
     if (!space.empty()) {
       const auto p = spaces.primaries_d65(space);
       return {space, reason(space, p ? chromaticity_difference(p->data(), adapted.data()) : 0),
@@ -179,7 +173,7 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
   // The colour interop ID of OCIO 2 configs, if a writer set one.
   const std::string interop = spec.get_string_attribute("colorInteropID");
   if (!interop.empty()) {
-    std::string space = find_space(spaces, interop, named);
+    std::string space = spaces.space_of_interop_id(interop, named);
     if (!space.empty()) return {space, "file metadata colorInteropID '" + interop + "'", false};
     // A display's output read by a config without display-referred spaces: the scene-referred
     // space of the same encoding holds the same values.
@@ -187,7 +181,7 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
     if (interop.size() > suffix.size() &&
         interop.compare(interop.size() - suffix.size(), suffix.size(), suffix) == 0) {
       const std::string scene = interop.substr(0, interop.size() - suffix.size()) + "_scene";
-      space = find_space(spaces, scene, {});
+      space = spaces.space_of_interop_id(scene);
       if (!space.empty()) {
         warnings.push_back(
             where + "its colorInteropID '" + clip(interop) +
@@ -212,16 +206,16 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
     std::string space;
     // spectralize's own profiles end in the space's interop ID: "ACEScg (lin_ap1_scene)".
     if (const std::size_t open = desc.rfind(" ("); open != std::string::npos && desc.back() == ')')
-      space = find_space(spaces, desc.substr(open + 2, desc.size() - open - 3), named);
+      space = spaces.space_of_interop_id(desc.substr(open + 2, desc.size() - open - 3), named);
     if (!space.empty()) {
     } else if (one_of({"srgb", "srgb iec61966-2.1", "srgb iec61966-2-1", "srgb built-in",
                        "srgb iec61966-2.1 (equivalent)", "srgb profile"}))
-      space = find_space(spaces, "srgb_rec709_scene", named);
+      space = spaces.space_of_interop_id("srgb_rec709_scene", named);
     else if (one_of({"adobe rgb (1998)", "adobergb1998", "compatible with adobe rgb (1998)",
                      "adobe rgb"}))
-      space = find_space(spaces, "g22_adobergb_scene", named);
+      space = spaces.space_of_interop_id("g22_adobergb_scene", named);
     else if (one_of({"display p3", "displayp3"}))
-      space = find_space(spaces, "srgb_p3d65_scene", named);
+      space = spaces.space_of_interop_id("srgb_p3d65_scene", named);
     if (!space.empty()) return {space, "embedded ICC profile '" + clip(desc) + "'", false};
     warnings.push_back(where + "its embedded ICC profile '" +
                        clip(desc.empty() ? std::string("(no description)") : desc) +
@@ -246,13 +240,13 @@ Stated metadata_space(const std::string& file, const OIIO::ImageSpec& spec,
     const float gamma = chunks.gamma;
     std::string space;
     if (std::abs(gamma - 1.0f) < 0.01f)
-      space = find_space(spaces, "lin_rec709_scene", named);
+      space = spaces.space_of_interop_id("lin_rec709_scene", named);
     else if (std::abs(gamma - 2.2f) < 0.01f)
-      space = find_space(spaces, "g22_rec709_scene", named);
+      space = spaces.space_of_interop_id("g22_rec709_scene", named);
     const std::string tag = OIIO::Strutil::fmt::format("PNG gAMA (gamma {:g})", gamma);
     if (space.empty() && std::abs(gamma - 2.2f) < 0.01f) {
       // A gamma-2.2 space is rare in studio configs; the sRGB curve is within 1% of it.
-      space = find_space(spaces, "srgb_rec709_scene", named);
+      space = spaces.space_of_interop_id("srgb_rec709_scene", named);
       if (!space.empty())
         warnings.push_back(where + "its " + tag +
                            " has no matching space in the OCIO config; read as '" + space + "'");
@@ -280,7 +274,7 @@ Stated format_convention(const std::string& file, bool float_data, const ColourS
                          std::vector<std::string>& warnings, const std::string& fallback) {
   const std::string ext = lower(std::filesystem::path(file).extension().string());
   if (ext == ".hdr" || ext == ".rgbe" || ext == ".pic") {
-    const std::string space = find_space(spaces, "lin_rec709_scene", {});
+    const std::string space = spaces.space_of_interop_id("lin_rec709_scene");
     if (!space.empty())
       return {space, "Radiance HDR: linear Rec.709 by the format's convention", false};
     warnings.push_back("'" + clip(file, 200) +
@@ -291,7 +285,7 @@ Stated format_convention(const std::string& file, bool float_data, const ColourS
   }
   if (!float_data &&
       (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jpe" || ext == ".jfif")) {
-    const std::string space = find_space(spaces, "srgb_rec709_scene", {});
+    const std::string space = spaces.space_of_interop_id("srgb_rec709_scene");
     if (!space.empty())
       return {space,
               std::string(ext == ".png" ? "PNG" : "JPEG") +

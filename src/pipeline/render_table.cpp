@@ -58,21 +58,20 @@ double renderer_primaries_difference(const ColourSpaceFacts& space, const Mat3& 
   const Xyz white = mul(renderer, Xyz{1, 1, 1});
   given[6] = static_cast<float>(white.X / white.sum());
   given[7] = static_cast<float>(white.Y / white.sum());
+  // The largest difference of the three primaries' x or y (the white left out).
+  auto primaries_apart = [](const std::array<float, 8>& a, const std::array<float, 8>& b) {
+    double worst = 0;
+    for (int k = 0; k < 6; ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
+    return worst;
+  };
   // The space's own primaries as its standard states them (ACES: AP0, AP1 with the ACES
   // white), the white free: a renderer's white comes from its own illuminant data.
-  double own = INFINITY;
-  if (space.chromaticities) {
-    own = 0;
-    for (int k = 0; k < 6; ++k)
-      own = std::max(own, std::abs(static_cast<double>(given[k]) - (*space.chromaticities)[k]));
-  }
+  const double own =
+      space.chromaticities ? primaries_apart(given, *space.chromaticities) : INFINITY;
   // Else both adapted to D65 as a config adapts its spaces (Bradford): a space no standard
   // names, given with its own white (DCI-P3 with the DCI white), or as the config sees it.
-  const std::array<float, 8> a = adapt_chromaticities_to_d65(given.data());
-  const std::array<float, 8> b = adapt_chromaticities_to_d65(space.primaries_d65->data());
-  double adapted = 0;
-  for (int k = 0; k < 6; ++k)
-    adapted = std::max(adapted, std::abs(static_cast<double>(a[k]) - b[k]));
+  const double adapted = primaries_apart(adapt_chromaticities_to_d65(given.data()),
+                                         adapt_chromaticities_to_d65(space.primaries_d65->data()));
   return std::min(own, adapted);
 }
 
