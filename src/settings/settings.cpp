@@ -144,7 +144,7 @@ std::vector<SettingSpec> make_schema() {
   s.push_back(
       {"illuminant", "--illuminant", "NAME", "illuminant",
        "Reference illuminant of reflectances (--to-rgb, --plot-pixel: the light "
-       "reflective files are seen under): D65, D50, A, C, E, D<nn>, FL1..FL12, ...",
+       "reflective files are seen under): D65, D50, A, C, E, D<nn>, <T>K, FL1..FL12, ...",
        kAllCommands, true, true,
        [](Settings& v, std::string_view t) { v.spectral.illuminant = Illuminant::get(t).name; },
        [](const Settings& v) { return v.spectral.illuminant; }, is_reflectance});

@@ -257,7 +257,7 @@ TEST(Illuminant, EveryListedNameResolvesToATableOfThatName) {
   const std::vector<std::string> names = Illuminant::names();
   EXPECT_GT(names.size(), 40u);
   for (const std::string& name : names) {
-    if (name.rfind("D<nn>", 0) == 0) continue;  // the placeholder of the daylight series
+    if (name.find('<') != std::string::npos) continue;  // D<nn>, <T>K: placeholders
     SCOPED_TRACE(name);
     const Illuminant il = Illuminant::get(name);
     EXPECT_EQ(il.name, name);
@@ -355,6 +355,52 @@ TEST(Illuminant, DaylightSeriesLiesOnTheDaylightLocus) {
 TEST(Illuminant, DaylightOutside4000To25000KIsRefusedNamingTheRange) {
   for (const char* bad : {"D39", "D251", "D0", "D999"}) {
     expect_error_mentioning([bad] { (void)Illuminant::get(bad); }, {bad, "D40..D250"}, bad);
+  }
+}
+
+// Planck's law as CIE 015:2018 writes it (section 3.1: c2 = 1.4388e-2 m K), relative.
+double planck(double nm, double kelvin) {
+  const double l = nm * 1e-9;
+  return std::pow(l, -5) / (std::exp(1.4388e-2 / (l * kelvin)) - 1);
+}
+
+TEST(Illuminant, APlanckianRadiatorIsPlancksLawAt100At560nm) {
+  for (double kelvin : {1000.0, 2856.0, 3200.0, 6500.0, 25000.0}) {
+    SCOPED_TRACE(kelvin);
+    const Illuminant il = Illuminant::get(std::to_string(static_cast<int>(kelvin)) + "K");
+    ASSERT_EQ(il.spd.size(), ReferenceTable::kSize);
+    for (std::size_t k = 0; k < ReferenceTable::kSize; k += 7) {
+      const double nm = ReferenceTable::wavelength(k);
+      EXPECT_NEAR(il.spd[k], 100.0 * planck(nm, kelvin) / planck(560.0, kelvin),
+                  1e-12 * std::max(1.0, il.spd[k]))
+          << nm << " nm";
+    }
+  }
+  EXPECT_EQ(Illuminant::get("3200k").name, "3200K");
+  EXPECT_EQ(Illuminant::get("2856.5K").name, "2856.5K");
+  EXPECT_EQ(Illuminant::get("03200K").name, "3200K");
+}
+
+TEST(Illuminant, A2856KRadiatorHasIlluminantAsChromaticity) {
+  // Illuminant A is a Planckian radiator at 2856 K (CIE 015:2018 Table T.3: 0.44757, 0.40745;
+  // its defining formula uses the older c2, 1.435e-2 m K at 2848 K: the 5th digit differs).
+  const auto xy = chromaticity(illuminant_xyz(Observer::get("cie1931"), Illuminant::get("2856K")));
+  EXPECT_NEAR(xy[0], 0.44757, 1e-4);
+  EXPECT_NEAR(xy[1], 0.40745, 1e-4);
+}
+
+TEST(Illuminant, APlanckianRadiatorOutside1000To25000KIsRefusedNamingTheRange) {
+  for (const char* bad : {"999K", "25001K", "0K"}) {
+    expect_error_mentioning([bad] { (void)Illuminant::get(bad); }, {bad, "1000..25000 K"}, bad);
+  }
+  for (const char* unknown : {"K", "-3200K", "0x10K", "3200 K", "3200KK", "3e3K"}) {
+    SCOPED_TRACE(unknown);
+    if (std::string_view(unknown) == "3e3K") {
+      EXPECT_EQ(Illuminant::get(unknown).name, "3000K");  // a decimal number, as elsewhere
+      continue;
+    }
+    expect_error_mentioning([unknown] { (void)Illuminant::get(unknown); }, {unknown, "<T>K"},
+                            "unknown illuminant");
   }
 }
 

@@ -39,14 +39,18 @@ struct Observer {
 
 /// A CIE illuminant's relative spectral power on the reference table.
 struct Illuminant {
+  static constexpr double kMinPlanckianKelvin = 1000;
+  static constexpr double kMaxPlanckianKelvin = 25000;
+
   std::string name;         // canonical name, e.g. "D65"
   std::vector<double> spd;  // ReferenceTable::kSize values
 
   /// The illuminant `name` (case-insensitive): D65, D50, A, C, E, D<cct/100> (e.g. D55, D75;
-  /// daylight series from S0..S2), FL1..FL12 (also F1..F12), FL3.1..FL3.15, HP1..HP5, LED-*.
-  /// Tables given only
-  /// on 380..780 nm or at 5 nm are interpolated linearly and extended by their end values
-  /// (CIE 015's advice). Throws Error listing the names. Cost: O(table) per call.
+  /// daylight series from S0..S2), <T>K (e.g. 3200K: a Planckian radiator by Planck's law,
+  /// c2 = 1.4388e-2 m K, kMinPlanckianKelvin..kMaxPlanckianKelvin), FL1..FL12 (also F1..F12),
+  /// FL3.1..FL3.15, HP1..HP5, LED-*. Tables given only on 380..780 nm or at 5 nm are interpolated
+  /// linearly and extended by their end values (CIE 015's advice). Throws Error listing the names.
+  /// Cost: O(table) per call.
   static Illuminant get(std::string_view name);
   /// All accepted illuminant names (D-series besides D50/D65 as "D<nn>"). Cost: O(names).
   static std::vector<std::string> names();

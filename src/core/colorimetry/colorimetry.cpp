@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/colorimetry/embedded_data.h"
+#include "core/decimal_number.h"
 #include "spectralize/core/error.h"
 
 namespace spectralize {
@@ -134,6 +135,42 @@ std::vector<double> daylight(double cct) {
 
 const std::string_view kFluorescentFile = "cie_illuminants_fl_hp_led_5nm.csv";
 
+// A Planckian (blackbody) radiator at `kelvin` on the reference table, Planck's law with CIE
+// 015:2018's c2 = 1.4388e-2 m K (ITS-90; section 3.1, the value illuminant A is defined
+// with), relative: 100 at 560 nm as CIE tables are (docs/DESIGN.md §3).
+std::vector<double> planckian(double kelvin) {
+  constexpr double c2 = 1.4388e-2;
+  auto m = [&](double nm) {
+    const double l = nm * 1e-9;
+    return 1.0 / (std::pow(l, 5) * std::expm1(c2 / (l * kelvin)));
+  };
+  const double at560 = m(560.0);
+  std::vector<double> out(ReferenceTable::kSize);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = 100.0 * m(ReferenceTable::wavelength(k)) / at560;
+  return out;
+}
+
+// The shortest decimal text that reads back as `v` ("3200", "2856.5").
+std::string decimal_text(double v) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return ec == std::errc{} ? std::string(buf, end) : std::to_string(v);
+}
+
+// "3200K", "2856.5k": the temperature of a Planckian radiator's name; none when `n` is no such
+// name.
+std::optional<double> kelvin_of(std::string_view n) {
+  if (n.size() < 2 || (n.back() != 'k' && n.back() != 'K')) return std::nullopt;
+  const std::string_view digits = n.substr(0, n.size() - 1);
+  if (!std::isdigit(static_cast<unsigned char>(digits.front()))) return std::nullopt;
+  try {
+    return decimal_number(digits);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> embedded_columns(std::string_view file) {
@@ -224,6 +261,12 @@ Illuminant Illuminant::get(std::string_view name) {
     il = {"C", embedded_column_on_reference("cie_illuminant_c_5nm.csv", "value")};
   } else if (n == "e") {
     il = {"E", std::vector<double>(ReferenceTable::kSize, 100.0)};
+  } else if (const auto kelvin = kelvin_of(n)) {
+    if (!(*kelvin >= kMinPlanckianKelvin && *kelvin <= kMaxPlanckianKelvin))
+      throw Error("illuminant " + quote(name) + ": a Planckian radiator is made for " +
+                  decimal_text(kMinPlanckianKelvin) + ".." + decimal_text(kMaxPlanckianKelvin) +
+                  " K");
+    il = {decimal_text(*kelvin) + "K", planckian(*kelvin)};
   } else if (n.size() >= 3 && n.size() <= 4 && n[0] == 'd' &&
              std::all_of(n.begin() + 1, n.end(), [](char c) { return std::isdigit(c); })) {
     int hundreds = std::stoi(n.substr(1));
@@ -245,7 +288,13 @@ Illuminant Illuminant::get(std::string_view name) {
 }
 
 std::vector<std::string> Illuminant::names() {
-  std::vector<std::string> out = {"D65", "D50", "A", "C", "E", "D<nn> (D40..D250, e.g. D55, D75)"};
+  std::vector<std::string> out = {"D65",
+                                  "D50",
+                                  "A",
+                                  "C",
+                                  "E",
+                                  "D<nn> (D40..D250, e.g. D55, D75)",
+                                  "<T>K (a Planckian radiator, 1000..25000 K, e.g. 3200K)"};
   for (const auto& col : embedded_columns(kFluorescentFile)) out.push_back(col);
   return out;
 }
