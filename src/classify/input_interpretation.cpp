@@ -429,7 +429,18 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
   // config's role for the data type.
   if (!settings.colorspace.empty()) {
     in.colorspace = settings.colorspace;  // resolved by the planner (pipeline/job_plan.h)
-    in.colorspace_reason = "--colorspace";
+    in.colorspace_reason =
+        settings.colorspace_given_by.empty() ? "--colorspace" : settings.colorspace_given_by;
+    // What the file says of itself, where it disagrees: named, the given space followed.
+    std::vector<std::string> unheard;  // its tags' own troubles: not this decision's
+    if (const Stated meta = metadata_space(file, spec, spaces, in.colorspace, unheard);
+        meta && !agrees(spaces, in.colorspace, meta) &&
+        !(meta.primaries_only && spaces.facts(in.colorspace).data)) {
+      in.contradiction = "its " + meta.reason + " says '" + meta.space + "', but " +
+                         in.colorspace_reason + " says '" + in.colorspace + "': '" + in.colorspace +
+                         "' is followed";
+      in.warnings.push_back(where + in.contradiction);
+    }
   } else {
     const auto [ruled, rule] = spaces.file_rule(file);
     std::pair<std::string, std::string> role;
@@ -490,7 +501,9 @@ InputInterpretation interpret_colour(const std::string& file, const OIIO::ImageS
     throw Error(where + "colour space '" + in.colorspace + "' (" + in.colorspace_reason +
                 ") cannot be used: " + in.facts->unusable);
   // Data or colour: the words of the name and its folders, then a data colour space.
-  in.name = map_kind_by_name(file, name_words_in_force(settings.data_names, settings.colour_names));
+  if (!settings.stated_for_file)
+    in.name =
+        map_kind_by_name(file, name_words_in_force(settings.data_names, settings.colour_names));
   resolve_by_channels(in.name, in.channels.grey());
   for (const std::string& w : in.name.warnings) in.warnings.push_back(where + w);
   if (in.name.kind == MapKind::data)
@@ -526,6 +539,7 @@ void decide_light_or_surface(InputInterpretation& in, const std::string& file,
   // Light or surface (docs/DESIGN.md §9).
   ModeClues clues;
   clues.asked = settings.mode;
+  clues.asked_by = settings.mode_given_by;
   clues.name = in.name;
   clues.float_data = spec.format.is_floating_point();
   clues.colorspace = in.colorspace;

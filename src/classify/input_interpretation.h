@@ -29,6 +29,7 @@ struct ChannelRoles {
 struct InputInterpretation {
   ChannelRoles channels;
   std::string colorspace, colorspace_reason;
+  std::string contradiction;  // a given space the file's own statement disagrees with, or ""
   const ColourSpaceFacts* facts = nullptr;  // of `colorspace`: what the converters and tags use
   NameVerdict name;                         // what the words of its name and folders say
   std::string data_reason;                  // non-empty: non-colour data (by name or colour space)

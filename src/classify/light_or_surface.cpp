@@ -23,7 +23,7 @@ ModeDecision decide_mode(const ModeClues& c) {
   ModeDecision d;
   if (c.asked != ModeChoice::automatic) {
     d.mode = c.asked == ModeChoice::emission ? Mode::emission : Mode::reflectance;
-    d.reason = "--mode";
+    d.reason = c.asked_by.empty() ? "--mode" : c.asked_by;
     return d;
   }
   // The name (or folder) says what the map is.

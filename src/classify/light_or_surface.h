@@ -32,6 +32,7 @@ struct Brightest {
 /// the decision open (it reads the image).
 struct ModeClues {
   ModeChoice asked = ModeChoice::automatic;  // --mode
+  std::string asked_by;                      // who asked, where not --mode (a list's origin)
   NameVerdict name;                          // the file's words, then its folders'
   bool float_data = false;
   bool can_exceed_white = true;  // the colour space decodes values above white (float data,

@@ -172,6 +172,7 @@ class FileIngest {
   FileIngest(const IngestItem& item, Batch& batch) : item_(item), batch_(batch) {
     put_path(r_, "input", item.input);
     put_path(r_, "output", item.output);
+    if (!item.origin.empty()) r_["origin"] = Json::parse(item.origin);
   }
 
   /// The file's record; null when the batch was asked to stop during its conversion (not done:
@@ -188,10 +189,13 @@ class FileIngest {
       check_readable_file(item_.input, "input");
       ::stat(item_.input.c_str(), &st_);
       make_output_folder();
-      // By the words of its name and folders (map_kind.h), before the file is read.
+      // By the words of its name and folders (map_kind.h), before the file is read; a list
+      // line that states what the file is (a stage's declaration) is followed instead.
       const Settings& s = item_.settings;
       const NameVerdict name =
-          map_kind_by_name(item_.input, name_words_in_force(s.data_names, s.colour_names));
+          s.stated_for_file
+              ? NameVerdict{}
+              : map_kind_by_name(item_.input, name_words_in_force(s.data_names, s.colour_names));
       if (name.kind == MapKind::data) {
         if (!name.warnings.empty()) r_["warnings"] = name.warnings;
         return as_data("data by its " + name.reason);
@@ -219,7 +223,11 @@ class FileIngest {
     } catch (const Interrupted&) {
       return Json();
     } catch (const std::exception& e) {
-      return finish("failed", e.what());
+      // Where the file comes from, when its list line says (a USD stage's prim).
+      std::string where;
+      if (r_.contains("origin") && r_["origin"].contains("where"))
+        where = " (" + r_["origin"]["where"].get<std::string>() + ")";
+      return finish("failed", e.what() + where);
     }
   }
 
@@ -276,6 +284,7 @@ class FileIngest {
         reader_.emplace(item_.input, spectral_output_channels(plan.settings), true);
     const InputInterpretation in =
         interpret_colour(item_.input, reader.spec(), plan.settings, plan.colour_spaces());
+    if (!in.contradiction.empty()) r_["contradiction"] = utf8_escaped(in.contradiction);
     if (!in.data_reason.empty()) {
       if (!in.warnings.empty()) r_["warnings"] = in.warnings;
       return in.data_reason;

@@ -25,15 +25,16 @@ namespace spectralize {
 
 /// What the command line asked for.
 struct IngestRequest {
-  std::vector<std::string> sources;  // files, folders (walked), glob patterns
-  std::string inputs_from;           // a list of inputs: paths, or JSON objects per line
-  std::string destination;           // the output folder
-  std::string manifest;              // the manifest to write ("" : in the destination)
-  bool force = false;                // convert even what is up to date
-  int shard = 0, shards = 1;         // this process does the files of shard `shard` of `shards`
-                                     // (checked by ingest/shard.h's parse_shard or slurm_shard)
-  Settings settings;                 // every file's settings (a list line may override them)
-  OptionNames names{"--", "-o"};     // how the caller spells options in messages (CLI, Python)
+  std::vector<std::string> sources;     // files, folders (walked), glob patterns
+  std::string inputs_from;              // a list of inputs: paths, or JSON objects per line
+  std::vector<std::string> made_lists;  // lists made for the batch (a USD stage's textures)
+  std::string destination;              // the output folder
+  std::string manifest;                 // the manifest to write ("" : in the destination)
+  bool force = false;                   // convert even what is up to date
+  int shard = 0, shards = 1;            // this process does the files of shard `shard` of `shards`
+                                        // (checked by ingest/shard.h's parse_shard or slurm_shard)
+  Settings settings;                    // every file's settings (a list line may override them)
+  OptionNames names{"--", "-o"};        // how the caller spells options in messages (CLI, Python)
 };
 
 /// One planned file.
@@ -47,6 +48,7 @@ struct IngestItem {
   std::string copy_failure;     // set at planning: why it cannot be copied, should it be data
   std::string derived_from;     // made from this input of the batch (same_stem.h): not converted
   std::string note;             // how planning named it (same-stem siblings)
+  std::string origin;           // a list line's "origin" object, as JSON text ("" : none)
 };
 
 /// What the walk left out or could not enter, by name: a hidden file, a non-image, a link to a

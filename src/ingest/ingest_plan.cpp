@@ -91,6 +91,7 @@ struct Found {
   fs::path relative_dir;  // mirrored under the destination
   std::map<std::string, std::string> overrides;
   std::string failure;  // known before it runs (a pattern that matches nothing)
+  std::string origin;   // a list line's "origin" object, as JSON text ("" : none)
 };
 
 // Why a path met by the walk or a pattern is not an input, or "" when it is one (a regular
@@ -182,7 +183,7 @@ class Walker {
         continue;
       }
       if (!folder) {
-        found_.push_back({p.string(), rel, {}, {}});
+        found_.push_back({p.string(), rel, {}, {}, {}});
         continue;
       }
       const auto id = identity(p);
@@ -286,20 +287,36 @@ void expand(const std::string& pattern, std::vector<Found>& found, std::vector<L
     found.push_back({p.string(),
                      fixed.empty() ? p.parent_path() : p.parent_path().lexically_relative(fixed),
                      {},
+                     {},
                      {}});
   }
   globfree(&g);
   if (found.size() == before)
-    found.push_back(
-        {pattern, fs::path(), {}, quoted_path(pattern) + ": the pattern matches no image file"});
+    found.push_back({pattern,
+                     fs::path(),
+                     {},
+                     quoted_path(pattern) + ": the pattern matches no image file",
+                     {}});
+}
+
+// A list line's "origin": an object, recorded in the file's manifest record; its
+// "colorspace_reason" and "mode_reason", where given, must be strings (they become reasons).
+std::string origin_of(const Json& j, const std::string& where) {
+  const Json& o = j["origin"];
+  if (!o.is_object()) throw Error(where + "\"origin\" must be a JSON object");
+  for (const char* key : {"colorspace_reason", "mode_reason", "where"})
+    if (o.contains(key) && !o[key].is_string())
+      throw Error(where + "\"origin\": \"" + key + "\" must be a string");
+  return o.dump();
 }
 
 // The lines of a list file: paths (relative to the list's folder), or JSON objects with "input"
-// and any single-file setting for that file.
+// (relative to "source", a folder, where given: the output mirrors the input's place in it),
+// "origin" (where the line comes from, recorded) and any single-file setting for that file.
 void read_list(const std::string& file, std::vector<Found>& out) {
   check_readable_file(file, "--inputs-from");
   std::ifstream f(file);
-  const fs::path base = fs::path(file).parent_path();
+  const fs::path list_folder = fs::path(file).parent_path();
   std::string line;
   for (int number = 1; std::getline(f, line); ++number) {
     const std::string where = quoted_path(file) + " line " + std::to_string(number) + ": ";
@@ -308,6 +325,7 @@ void read_list(const std::string& file, std::vector<Found>& out) {
     line = line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
     Found item;
     std::string path = line;
+    fs::path base = list_folder;
     if (line[0] == '{') {
       Json j = Json::parse(line, nullptr, false);
       if (j.is_discarded() || !j.is_object() || !j.contains("input") || !j["input"].is_string())
@@ -315,10 +333,22 @@ void read_list(const std::string& file, std::vector<Found>& out) {
       path = j["input"].get<std::string>();
       for (auto it = j.begin(); it != j.end(); ++it) {
         if (it.key() == "input") continue;
+        if (it.key() == "source") {
+          if (!it->is_string() || it->get<std::string>().empty())
+            throw Error(where + "\"source\" must be a folder's path");
+          const fs::path source(it->get<std::string>());
+          base = source.is_relative() ? list_folder / source : source;
+          continue;
+        }
+        if (it.key() == "origin") {
+          item.origin = origin_of(j, where);
+          continue;
+        }
         const SettingSpec* spec = find_setting(it.key());
         if (!spec || !spec->recipe || !spec->applies(kIngest))
           throw Error(where + "unknown key " + quote(it.key()) +
-                      " (a single-file setting: colorspace, mode, wavelengths, ...)");
+                      " (source, origin, or a single-file setting: colorspace, mode, "
+                      "wavelengths, ...)");
         item.overrides[it.key()] = it->is_string() ? it->get<std::string>() : it->dump();
       }
     }
@@ -396,7 +426,7 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
                     ": its outputs would be ingested again; choose another");
       walker.walk(p);
     } else if (fs::exists(fs::symlink_status(p, ec))) {
-      found.push_back({src, fs::path(), {}, {}});  // a file given by name: checked when run
+      found.push_back({src, fs::path(), {}, {}, {}});  // a file given by name: checked when run
     } else if (src.find_first_of("*?[") != std::string::npos) {
       if (pattern_reaches(src, dest))
         throw Error("-o " + quoted_path(dest) + " is where the pattern " + quoted_path(src) +
@@ -404,10 +434,11 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
       expand(src, found, plan.left_out);
     } else {
       // A missing file is that file's failure (recorded when run); the others carry on.
-      found.push_back({src, fs::path(), {}, {}});
+      found.push_back({src, fs::path(), {}, {}, {}});
     }
   }
   if (!request.inputs_from.empty()) read_list(request.inputs_from, found);
+  for (const std::string& list : request.made_lists) read_list(list, found);
   if (found.empty() && plan.left_out.empty()) throw Error("no input files found");
 
   // Each file once, whatever its spellings ("lib lib", "lib ./lib/", a file given twice, a
@@ -437,6 +468,7 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
   FilePlan& files = plan.files;
   for (const Found& f : found) files.read(f.input, "the input");
   if (!request.inputs_from.empty()) files.read(request.inputs_from, "the --inputs-from list");
+  for (const std::string& list : request.made_lists) files.read(list, "a list of inputs");
   {
     plan.job = job ? std::move(*job) : plan_to_spectral(request.settings, "", request.names);
     const ColourSpaces& spaces = plan.job.colour_spaces();
@@ -455,10 +487,22 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
     IngestItem item;
     item.input = f.input;
     item.failure = f.failure;
+    item.origin = f.origin;
     item.settings = request.settings;
     item.source_relative = (f.relative_dir / fs::path(f.input).filename()).string();
     for (const auto& [key, value] : f.overrides)
       apply_setting(item.settings, *find_setting(key), value, "key '" + key + "' of " + f.input);
+    item.settings.stated_for_file = f.overrides.count("colorspace") + f.overrides.count("mode") > 0;
+    // The reasons of what the line gives, where its origin states them.
+    if (!f.origin.empty()) {
+      const Json origin = Json::parse(f.origin);
+      auto reason = [&](const char* setting, const char* key, std::string& into) {
+        if (f.overrides.count(setting) && origin.contains(key))
+          into = origin[key].get<std::string>();
+      };
+      reason("colorspace", "colorspace_reason", item.settings.colorspace_given_by);
+      reason("mode", "mode_reason", item.settings.mode_given_by);
+    }
     item.relative = output_name(item.settings.ingest.name_pattern, f);
     if (item.failure.empty() && (item.relative.empty() || item.relative.rfind("..", 0) == 0))
       item.failure = "its output name '" + item.relative + "' leaves the destination";

@@ -84,6 +84,12 @@ struct Settings {
   // The settings the user gave (a flag, a keyword, a recipe key), by their place in the
   // schema: what may be refused as unable to shape the output (ineffective_setting).
   std::uint64_t given = 0;
+  // Who gave the colour space and mode when a list line's origin says ("" : the option
+  // itself, "--colorspace"): the reasons decisions record, e.g. a USD stage's declaration.
+  std::string colorspace_given_by, mode_given_by;
+  // A list line states this file's colour space or mode: the words of its name do not make
+  // it data (what it is was said for it alone).
+  bool stated_for_file = false;
 };
 
 /// One setting of the schema.

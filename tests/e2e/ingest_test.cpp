@@ -360,6 +360,62 @@ TEST(Ingest, BadInputsDoNotStopTheOthers) {
   EXPECT_NE(r.err.find("blocker"), std::string::npos) << r.err;
 }
 
+// A list line that states what its file is: the words of its name do not make it data; its
+// origin is recorded, its reasons are the decision's, its "where" names a failure.
+TEST(Ingest, AListLineStatesWhatItsFileIsAndWhereItComesFrom) {
+  Scratch s;
+  make_library(s);
+  std::ofstream(s / "list.txt")
+      << R"({"input": "lib/walls/brick_Normal.png", "mode": "reflectance", "origin": )"
+      << R"({"where": "</M/Tex>.inputs:file", "mode_reason": "feeds diffuseColor"}})"
+      << "\n"
+      << R"({"input": "lib/walls/brick-roughness.png"})"
+      << "\n"
+      << R"({"input": "lib/walls/lost.png", "origin": {"where": "</M/Lost>.inputs:file"}})"
+      << "\n";
+  auto r = run("ingest --inputs-from " + (s / "list.txt") + " -o " + (s / "o") + " -q");
+  EXPECT_EQ(r.exit_code, 1) << r.err;  // the lost file
+  EXPECT_NE(r.err.find("lost.png"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(</M/Lost>.inputs:file)"), std::string::npos) << r.err;
+  const auto m = manifest(s / "o/spectralize-ingest.jsonl");
+  const Json normal = record(m, "brick_Normal.png");
+  EXPECT_EQ(normal["status"], "converted") << normal.dump();
+  EXPECT_EQ(normal["mode_reason"], "feeds diffuseColor");
+  EXPECT_EQ(normal["origin"]["where"], "</M/Tex>.inputs:file");
+  // Its header records the same reason: an up-to-date record reads it back.
+  r = run("ingest --inputs-from " + (s / "list.txt") + " -o " + (s / "o") + " -q");
+  EXPECT_EQ(record(manifest(s / "o/spectralize-ingest.jsonl"), "brick_Normal.png")["mode_reason"],
+            "feeds diffuseColor");
+  // A line that states nothing: the name's data word decides, as for any file.
+  EXPECT_EQ(record(m, "brick-roughness.png")["status"], "skipped_data");
+  EXPECT_EQ(record(m, "lost.png")["origin"]["where"], "</M/Lost>.inputs:file");
+}
+
+// A colour space given for a file that its own tag contradicts: both named, the given one
+// followed; a file that says nothing of itself, or agrees, has no contradiction.
+TEST(Ingest, AGivenSpaceTheFileContradictsIsNamedAndFollowed) {
+  Scratch s;
+  fs::create_directories(s / "lib");
+  e2e::write_image(
+      s / "lib/tagged.exr", 4, 4, {"R", "G", "B"}, OIIO::TypeFloat, {}, 0.3f,
+      [](OIIO::ImageSpec& spec) { spec.attribute("colorInteropID", "lin_rec709_scene"); });
+  e2e::write_image(
+      s / "lib/agrees.exr", 4, 4, {"R", "G", "B"}, OIIO::TypeFloat, {}, 0.3f,
+      [](OIIO::ImageSpec& spec) { spec.attribute("colorInteropID", "lin_ap1_scene"); });
+  fs::copy_file(kImages + "colorchecker_srgb8.png", s / "lib/plain.png");
+  auto r = run("ingest " + (s / "lib") + " -o " + (s / "o") + " -q --colorspace ACEScg");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto m = manifest(s / "o/spectralize-ingest.jsonl");
+  const Json tagged = record(m, "tagged.exr");
+  EXPECT_EQ(tagged["colorspace"], "ACEScg");
+  EXPECT_EQ(tagged["contradiction"],
+            "its file metadata colorInteropID 'lin_rec709_scene' says 'Linear Rec.709 (sRGB)', "
+            "but --colorspace says 'ACEScg': 'ACEScg' is followed")
+      << tagged.dump();
+  EXPECT_FALSE(record(m, "agrees.exr").contains("contradiction"));
+  EXPECT_FALSE(record(m, "plain.png").contains("contradiction"));
+}
+
 // A list file with per-file settings, and shards whose manifests merge into the batch's.
 TEST(Ingest, ListsShardsAndMerge) {
   Scratch s;

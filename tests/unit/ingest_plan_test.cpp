@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -167,6 +168,47 @@ TEST(IngestPlan, ListLinesAreRelativeToTheListAndMayCarryTheirOwnSettings) {
   std::ofstream(lib / "bad.txt") << "a.png\n{\"input\": 3}\n";
   r.inputs_from = (lib / "bad.txt").string();
   test::expect_error_mentioning([&] { plan_ingest(r); }, {"bad.txt", "line 2"}, "a bad line");
+}
+
+TEST(IngestPlan, AListLineMayNameItsSourceFolderAndItsOrigin) {
+  TempDir t;
+  const fs::path stage = t.dir / "stage";
+  write_png(stage / "tex/a.png");
+  write_png(stage / "tex/b.png");
+  const fs::path lists = t.dir / "lists";
+  fs::create_directories(lists);
+  // "source": the input is relative to it, and the output mirrors its place there; "origin"
+  // is kept as given, its reasons become those of the settings the line gives.
+  std::ofstream(lists / "list.txt")
+      << "{\"input\": \"tex/a.png\", \"source\": \"" << stage.string()
+      << "\", \"colorspace\": \"data\", \"origin\": {\"where\": \"</M/A>.inputs:file\", "
+         "\"colorspace_reason\": \"the stage says raw\", \"mode_reason\": \"unused\"}}\n"
+         "{\"input\": \"../stage/tex/b.png\", \"mode\": \"emission\"}\n";
+  IngestRequest r = request_for({}, (t.dir / "out").string());
+  r.inputs_from = (lists / "list.txt").string();
+  const IngestPlan plan = plan_ingest(r);
+  ASSERT_EQ(plan.items.size(), 2u);
+  const IngestItem& a =
+      plan.items[0].input.find("a.png") != std::string::npos ? plan.items[0] : plan.items[1];
+  const IngestItem& b = &a == &plan.items[0] ? plan.items[1] : plan.items[0];
+  EXPECT_EQ(a.input, (stage / "tex/a.png").string());
+  EXPECT_EQ(a.relative, "tex/a.exr");
+  EXPECT_EQ(nlohmann::json::parse(a.origin)["where"], "</M/A>.inputs:file");
+  EXPECT_EQ(a.settings.colorspace_given_by, "the stage says raw");
+  EXPECT_EQ(a.settings.mode_given_by, "");  // the line gives no mode
+  EXPECT_TRUE(a.settings.stated_for_file);
+  // Relative to the list, leaving it: no folder to mirror.
+  EXPECT_EQ(b.relative, "b.exr");
+  EXPECT_TRUE(b.settings.stated_for_file);
+  EXPECT_EQ(b.origin, "");
+  // A malformed origin or source is named with its line.
+  for (const char* bad :
+       {R"({"input": "a.png", "origin": "here"})", R"({"input": "a.png", "source": 3})",
+        R"({"input": "a.png", "origin": {"where": 3}})"}) {
+    std::ofstream(lists / "bad.txt") << bad << "\n";
+    r.inputs_from = (lists / "bad.txt").string();
+    test::expect_error_mentioning([&] { plan_ingest(r); }, {"bad.txt", "line 1"}, bad);
+  }
 }
 
 // --- Shards ---
