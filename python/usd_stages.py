@@ -109,20 +109,23 @@ def _consumers(stage):
     return fed
 
 
+def _anchored(attr, path):
+    """An authored asset path relative to the layer that authors it (OpenUSD's default
+    resolver anchors the same way)."""
+    for spec in attr.GetPropertyStack():
+        if spec.default is not None:
+            if not os.path.isabs(path) and spec.layer.realPath:
+                return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
+            break
+    return path
+
+
 def _resolved(attr, asset):
     """The files an asset path names: its resolved path, or the UDIM tiles (1001-1999) that
     exist next to where the layer that authors it says."""
     if UDIM not in asset.path:
         return [asset.resolvedPath] if asset.resolvedPath else []
-    layer = None
-    for spec in attr.GetPropertyStack():
-        if spec.default is not None:
-            layer = spec.layer
-            break
-    # Relative to the layer that authors it (OpenUSD's default resolver anchors the same way).
-    anchored = asset.path
-    if layer is not None and not os.path.isabs(anchored) and layer.realPath:
-        anchored = os.path.normpath(os.path.join(os.path.dirname(layer.realPath), anchored))
+    anchored = _anchored(attr, asset.path)
     pattern = re.escape(anchored).replace(re.escape(UDIM), r"(1\d\d\d)")
     tiles = [p for p in glob.glob(anchored.replace(UDIM, "1[0-9][0-9][0-9]"))
              if re.fullmatch(pattern, p)]
@@ -139,6 +142,8 @@ def _texture_records(prim, attr, decide):
         failed = dict(record)
         failed["failure"] = "%s.%s: asset '%s' not found" % (record["prim"], record["attribute"],
                                                               record["asset"])
+        if value and value.path:
+            failed["missing"] = _anchored(attr, value.path)
         return [failed]
     out = []
     for f in files:
@@ -210,21 +215,86 @@ def textures(stage):
     return out
 
 
-def list_line(record):
-    """A record as a line of `ingest --inputs-from` (a JSON object: the file and the settings
-    the stage decided; data as the config's data role), or None for a record without a file.
-    Cost: O(1)."""
-    if "input" not in record:
+def _origin(record):
+    """Where a record comes from, as ingest records it in the manifest ("origin")."""
+    o = {"where": "<%s>.%s" % (record["prim"], record["attribute"]), "prim": record["prim"],
+         "attribute": record["attribute"], "asset": record["asset"],
+         "feeds": record.get("feeds", [])}
+    if record.get("packaged"):
+        o["packaged"] = record["packaged"]
+    # The reasons of what the line gives (ingest records them instead of "--colorspace").
+    if record.get("mode") == "data":
+        o["colorspace_reason"] = (record["colorspace_reason"] if record.get("colorspace") == "data"
+                                  else record["mode_reason"])
+    elif record.get("colorspace"):
+        o["colorspace_reason"] = record["colorspace_reason"]
+    if record.get("mode") in ("reflectance", "emission"):
+        o["mode_reason"] = record["mode_reason"]
+    return o
+
+
+def list_line(record, source=None):
+    """A record as a line of `ingest --inputs-from` (a JSON object: the file, the settings the
+    stage decided, data as the config's data role, and "origin": the prim, attribute, inputs
+    it feeds and the reasons, which ingest records in the manifest). With `source` (a folder,
+    the stage's), a file inside it is given relative to it, so the output mirrors its place
+    there. A record whose file is missing becomes a line for the missing file, which ingest
+    fails naming its prim. Cost: O(1)."""
+    path = record.get("input") or record.get("missing")
+    if not path:
         return None
-    line = {"input": record["input"]}
+    line = {"input": path}
+    source = record.get("package_folder", source)  # a packaged file mirrors its package's tree
+    if source:
+        rel = os.path.relpath(path, source)
+        if not rel.startswith(".."):
+            line = {"input": rel, "source": os.path.abspath(source)}
     if record.get("mode") == "data":
         line["colorspace"] = "data"
-        return line
-    if record.get("colorspace"):
-        line["colorspace"] = record["colorspace"]
-    if record.get("mode"):
-        line["mode"] = record["mode"]
+    else:
+        if record.get("colorspace"):
+            line["colorspace"] = record["colorspace"]
+        if record.get("mode"):
+            line["mode"] = record["mode"]
+    line["origin"] = _origin(record)
     return line
+
+
+PACKAGE_FOLDER = "usdz-contents"
+
+
+def _unpack(records, output):
+    """Each texture inside a .usdz package copied out once into output/usdz-contents/
+    <package>/ (kept, with the package's time, so a rerun finds it and its output up to date);
+    the record's "input" becomes that file, "packaged" the path inside the package."""
+    from pxr import Ar
+    for r in records:
+        path = r.get("input", "")
+        if not (path.endswith("]") and "[" in path):
+            continue
+        package, inner = path[:-1].split("[", 1)
+        stem = os.path.splitext(os.path.basename(package))[0]
+        target = os.path.join(output, PACKAGE_FOLDER, stem, os.path.normpath(inner))
+        st = os.stat(package)
+        done = os.path.isfile(target) and os.stat(target).st_mtime_ns == st.st_mtime_ns
+        if not done:
+            asset = Ar.GetResolver().OpenAsset(Ar.ResolvedPath(path))
+            if not asset:
+                r.pop("input")
+                r["failure"] = "%s.%s: '%s' cannot be read from its package" % (
+                    r["prim"], r["attribute"], path)
+                continue
+            os.makedirs(os.path.dirname(target), exist_ok=True)
+            data = bytes(asset.GetBuffer())
+
+            def write(tmp, data=data):
+                with open(tmp, "wb") as f:
+                    f.write(data)
+                os.utime(tmp, ns=(st.st_atime_ns, st.st_mtime_ns))
+
+            _write_atomically(target, write)
+        r["packaged"], r["input"] = path, target
+        r["package_folder"] = os.path.join(output, PACKAGE_FOLDER, stem)
 
 
 # The options of ingest() that shape a light's spectrum too (spectra() takes them).
@@ -295,44 +365,32 @@ def _override_layer(path, root_layer, textures_done, light_records):
     _write_atomically(path, write)
 
 
-def ingest(stage, output, *, force=False, **options):
-    """The textures of `stage` (textures()) converted into the folder `output` as
-    spectralize.ingest() converts files: each with the colour space and mode the stage decides
-    (a data map skipped, a file the stage says nothing of decided by its own tags and the
-    config), incrementally, with ingest's manifest; its lights (lights()) as spectra, one JSON
-    file each under output/lights/; and output/spectral.usda, a layer with the stage as its
-    sublayer that only adds attributes in the spectralize: namespace: each converted texture's
-    spectral file (spectralize:file, or spectralize:files for UDIM tiles), its mode and colour
-    space, each light's spectralize:wavelengths, spectralize:values and spectralize:basis (the
-    original files are never written). options: ingest's (config, wavelengths, model, ...); a
-    setting the stage decides for a file (colorspace, mode) is the stage's. Returns ingest's
-    summary with "textures" (the stage's decisions with their prim paths and reasons),
-    "asset_failures" (textures whose file is missing), "lights" and "light_failures", and
-    "layer". Cost: composing the stage, then ingest's, one spectrum per light."""
-    import spectralize
-
-    Sdf, Usd, _, _ = _pxr()
-    opened = _open(stage)
-    root_layer = opened.GetRootLayer().realPath
-    if not root_layer:
-        raise ValueError("ingest(): the stage has no file (an in-memory stage): save it first")
+def _stage_lines(opened, output):
+    """The stage's texture records (packaged ones copied out under `output`) and their list
+    lines, relative to the stage's folder."""
     records = textures(opened)
-    lines = [list_line(r) for r in records]
-    with tempfile.TemporaryDirectory(prefix="spectralize-usd-") as folder:
-        listing = os.path.join(folder, "inputs.jsonl")
-        with open(listing, "w", encoding="utf-8") as f:
-            for line in lines:
-                if line:
-                    f.write(json.dumps(line) + "\n")
-        summary = spectralize.ingest([], output, inputs_from=listing, force=force, **options)
-    # What each file became, from ingest's own manifest.
-    manifest = os.path.join(output, "spectralize-ingest.jsonl")
+    _unpack(records, output)
+    source = os.path.dirname(opened.GetRootLayer().realPath)
+    lines = [list_line(r, source) for r in records]
+    return records, [line for line in lines if line]
+
+
+def _write_lines(path, lines):
+    with open(path, "w", encoding="utf-8") as f:
+        for line in lines:
+            f.write(json.dumps(line) + "\n")
+
+
+def _finish(opened, records, output, manifest, options):
+    """After ingest: what each texture became (from the manifest), the lights' spectra (one
+    JSON each under output/lights/), spectral.usda, and what the stage could not compose."""
     done = {}
-    with open(manifest, encoding="utf-8") as f:
-        for line in f:
-            m = json.loads(line)
-            if m.get("status") in ("converted", "up_to_date") and "output" in m:
-                done[os.path.abspath(m["input"])] = m
+    if os.path.isfile(manifest):
+        with open(manifest, encoding="utf-8") as f:
+            for line in f:
+                m = json.loads(line)
+                if m.get("status") in ("converted", "up_to_date") and "output" in m:
+                    done[os.path.abspath(m["input"])] = m
     textures_done = {}
     for r in records:
         m = done.get(os.path.abspath(r["input"])) if "input" in r else None
@@ -358,19 +416,143 @@ def ingest(stage, output, *, force=False, **options):
 
         _write_atomically(r["file"], write)
     layer = os.path.join(output, "spectral.usda")
-    _override_layer(layer, root_layer, textures_done, light_records)
-    summary["textures"] = records
-    summary["asset_failures"] = [r for r in records if "failure" in r]
-    summary["lights"] = light_records
-    summary["light_failures"] = [r for r in light_records if "failure" in r]
-    summary["layer"] = layer
+    _override_layer(layer, opened.GetRootLayer().realPath, textures_done, light_records)
+    return {"textures": records,
+            "asset_failures": [r for r in records if "failure" in r],
+            "lights": light_records,
+            "light_failures": [r for r in light_records if "failure" in r],
+            "layer_failures": [str(e).strip() for e in opened.GetCompositionErrors()],
+            "layer": layer}
+
+
+def ingest(stage, output, *, force=False, manifest=None, **options):
+    """The textures of `stage` (textures()) converted into the folder `output` as
+    spectralize.ingest() converts files: each with the colour space and mode the stage decides
+    (a data map skipped, a file the stage says nothing of decided by its own tags and the
+    config), incrementally, with ingest's manifest, whose records carry "origin" (the prim,
+    attribute, inputs fed and reasons) and "contradiction" where the file's own tag disagrees
+    with the stage (the stage is followed); textures inside a .usdz are copied out once into
+    output/usdz-contents/; its lights (lights()) as spectra, one JSON file each under
+    output/lights/; and output/spectral.usda, a layer with the stage as its sublayer that only
+    adds attributes in the spectralize: namespace: each converted texture's spectral file
+    (spectralize:file, or spectralize:files for UDIM tiles), its mode and colour space, each
+    light's spectralize:wavelengths, spectralize:values and spectralize:basis (the original
+    files are never written). options: ingest's (config, wavelengths, model, ...); a setting
+    the stage decides for a file (colorspace, mode) is the stage's. Returns ingest's summary
+    with "textures" (the stage's decisions), "asset_failures" (textures whose file is missing:
+    failed in the manifest too), "lights", "light_failures", "layer_failures" (what the stage
+    could not compose: a missing sublayer or reference) and "layer"; a SpectralizeWarning
+    names each light and layer failure. Cost: composing the stage, then ingest's, one
+    spectrum per light."""
+    import warnings
+
+    import spectralize
+
+    opened = _open(stage)
+    if not opened.GetRootLayer().realPath:
+        raise ValueError("ingest(): the stage has no file (an in-memory stage): save it first")
+    os.makedirs(output, exist_ok=True)
+    records, lines = _stage_lines(opened, output)
+    with tempfile.TemporaryDirectory(prefix="spectralize-usd-") as folder:
+        listing = os.path.join(folder, "inputs.jsonl")
+        _write_lines(listing, lines)
+        summary = spectralize.ingest([], output, inputs_from=listing, force=force,
+                                     manifest=manifest, **options)
+    summary.update(_finish(opened, records, output, summary["manifest"], options))
+    for failure in [r["failure"] for r in summary["light_failures"]] + summary["layer_failures"]:
+        warnings.warn("spectralize.usd.ingest(): " + failure, spectralize.SpectralizeWarning)
     return summary
+
+
+def _main(argv):
+    """The command line's half that needs OpenUSD (`spectralize ingest STAGE.usd`):
+    "lines STAGE OUTPUT LIST" writes the stage's list; "finish STAGE OUTPUT MANIFEST OPTIONS
+    VERBOSITY" (a JSON object of ingest's options; 0 is -q) writes the lights and spectral.usda
+    and says on stderr what failed (and, unless quiet, what was made). Returns the exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
+    import sys
+    try:
+        _pxr()
+    except ImportError as e:
+        print(str(e), file=sys.stderr)
+        return 3
+    try:
+        command, stage, output = argv[0], argv[1], argv[2]
+        opened = _open(stage)
+        if command == "lines":
+            _write_lines(argv[3], _stage_lines(opened, output)[1])
+            return 0
+        records, _ = _stage_lines(opened, output)
+        done = _finish(opened, records, output, argv[3], json.loads(argv[4]))
+    except (OSError, ValueError) as e:
+        print("spectralize ERROR: " + str(e), file=sys.stderr)
+        return 1
+    failures = [r["failure"] for r in done["light_failures"]] + done["layer_failures"]
+    for failure in failures:
+        print("spectralize ERROR: '%s': %s" % (stage, failure), file=sys.stderr)
+    made = sum(1 for r in done["lights"] if "values" in r)
+    if len(argv) > 5 and argv[5] == "0":
+        return 1 if failures else 0
+    print("spectralize ingest: USD stage '%s': %d lights made, %d failed; layer '%s'" % (
+        stage, made, len(done["light_failures"]), done["layer"]), file=sys.stderr)
+    return 1 if failures else 0
 
 
 # The CIE D-series illuminant at the white of a space's primaries (the interop ID's middle
 # part): D65 for the D65 spaces; the ACES white is no D-series white, D60 is the nearest.
 D_SERIES_WHITE = {"rec709": "D65", "rec2020": "D65", "p3d65": "D65", "adobergb": "D65",
                   "ciexyzd65": "D65", "ap1": "D60", "ap0": "D60"}
+# UsdLux's valid range of inputs:colorTemperature.
+COLOR_TEMPERATURE_RANGE = (1000.0, 10000.0)
+# The white every space of a config is converted through (docs/DESIGN.md §3: XYZ, D65, Y = 1).
+D65_WHITE = (0.3127 / 0.3290, 1.0, 0.3583 / 0.3290)
+XYZ_ROLE = "cie_xyz_d65_interchange"
+
+
+class _Frame:
+    """A light's colour space with the rendering illuminant `basis` as its white, as UsdLux
+    reads colours: rgb() and xyz() convert between the space's RGB, white-balanced to the
+    illuminant (docs/DESIGN.md §3: XYZ scaling), and CIE XYZ; each conversion goes through an
+    exact spectrum (flat emission), so it is the config's own."""
+
+    def __init__(self, colorspace, basis, options):
+        import numpy as np
+        import spectralize
+        self.np, self.sp = np, spectralize
+        self.space, self.options = colorspace, options
+        self.to_rgb_options = {k: v for k, v in options.items() if k in ("config", "observer")}
+        self.balance = self.emitted_xyz(D65_WHITE, basis) / np.asarray(D65_WHITE)
+
+    def spectrum(self, rgb, colorspace, basis):
+        return self.sp.spectra(self.np.asarray(rgb, dtype=self.np.float64), colorspace=colorspace,
+                               mode="emission", emission_basis=basis, **self.options)
+
+    def measured(self, wavelengths, values, colorspace):
+        rgb = self.sp.to_rgb(values, wavelengths, colorspace=colorspace, mode="emission",
+                             **self.to_rgb_options)
+        return self.np.asarray(rgb, dtype=self.np.float64)
+
+    def emitted_xyz(self, xyz, basis):
+        """The XYZ of the spectrum the white-balanced XYZ `xyz` becomes with `basis`."""
+        return self.measured(*self.spectrum(xyz, XYZ_ROLE, basis), XYZ_ROLE)
+
+    def xyz(self, rgb):
+        return self.measured(*self.spectrum(rgb, self.space, "flat"), XYZ_ROLE) * self.balance
+
+    def rgb(self, xyz):
+        return self.measured(*self.spectrum(xyz / self.balance, XYZ_ROLE, "flat"), self.space)
+
+
+def _colour_temperature_spectrum(r, kelvin, options):
+    """UsdLux's colour temperature: a Planckian radiator at `kelvin` (Planck's law), luminance
+    normalised (Y = 1 at intensity 1, exposure 0), whose RGB in the rendering frame the light's
+    color multiplies; the spectrum reproduces that product exactly and is the radiator itself
+    for a white color."""
+    planck = "%.17gK" % kelvin
+    frame = _Frame(r["colorspace"], r["basis"], options)
+    t_xyz = frame.emitted_xyz(D65_WHITE, planck)  # the radiator, Y = 1
+    target = frame.xyz(frame.np.asarray(r["color"]) * frame.rgb(t_xyz) * r["scale"])
+    # The spectrum with the radiator as its basis: its white balance takes D65 to t_xyz.
+    return frame.spectrum(target * frame.np.asarray(D65_WHITE) / t_xyz, XYZ_ROLE, planck)
 
 
 def lights(stage, **options):
@@ -380,12 +562,16 @@ def lights(stage, **options):
     illuminant at the space's white as the emission basis (spectralize.spectra(), mode
     emission): white (1, 1, 1) is that illuminant itself and every colour is reproduced
     exactly, white-balanced to it (D65 for the D65 spaces; D60 for ACES, whose white is no
-    D-series white: the record says so). options:
+    D-series white: the record says so). A light with inputs:enableColorTemperature is a
+    Planckian radiator at inputs:colorTemperature (Planck's law, luminance normalised: Y = 1 at
+    intensity 1 and exposure 0), its RGB in the rendering space multiplied by inputs:color
+    (UsdLux: "the computed result multiplies against the color attribute"): a white color
+    gives the radiator itself; record "color_temperature", "basis" "<T>K". options:
     spectra()'s (wavelengths, model, config, ...). Each record: "prim", "type", "colorspace",
     "colorspace_reason", "color", "scale", "basis", "basis_reason", "wavelengths", "values"
     (NumPy arrays); a light that cannot be made has "failure" instead (a negative colour, a
-    colour temperature, a space whose white no D-series illuminant is, a space the config has
-    no space for). An option spectra() refuses raises for the first light. Cost: composing the
+    colour temperature outside UsdLux's 1000..10000 K, a space whose white no D-series
+    illuminant is, a space the config has no space for). An option spectra() refuses raises for the first light. Cost: composing the
     stage, one spectrum per light."""
     import numpy as np
     import spectralize
@@ -409,8 +595,15 @@ def lights(stage, **options):
         parts = r["colorspace"].split("_")
         r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
         failure = None
+        kelvin = None
         if light.GetEnableColorTemperatureAttr().Get():
-            failure = "inputs:enableColorTemperature: a colour temperature is not made yet"
+            authored = light.GetColorTemperatureAttr().Get()
+            kelvin = float(6500.0 if authored is None else authored)
+            r["color_temperature"] = kelvin
+        low, high = COLOR_TEMPERATURE_RANGE
+        if kelvin is not None and not low <= kelvin <= high:
+            failure = "inputs:colorTemperature %g K is outside UsdLux's valid range, %g..%g K" % (
+                kelvin, low, high)
         elif min(r["color"]) < 0 or r["scale"] < 0:
             failure = "a negative colour or intensity: no light has it"
         elif r["basis"] is None:
@@ -425,9 +618,18 @@ def lights(stage, **options):
                                   "(colours are white-balanced to it: white light is D60)")
         rgb = np.asarray(r["color"], dtype=np.float64) * r["scale"]
         try:
-            r["wavelengths"], r["values"] = spectralize.spectra(
-                rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
-                **options)
+            if kelvin is None:
+                r["wavelengths"], r["values"] = spectralize.spectra(
+                    rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
+                    **options)
+            else:
+                r["wavelengths"], r["values"] = _colour_temperature_spectrum(r, kelvin, options)
+                r["rendering_basis"] = r["basis"]
+                r["basis"] = "%.17gK" % kelvin
+                r["basis_reason"] = (
+                    "inputs:colorTemperature: a Planckian radiator at %g K, luminance "
+                    "normalised; inputs:color multiplies its RGB in the rendering space "
+                    "(white-balanced to %s)" % (kelvin, r["rendering_basis"]))
         except ValueError as e:  # a space the config lacks: this light's failure
             r["failure"] = "<%s>: %s" % (r["prim"], str(e).split(". Valid names")[0])
         out.append(r)

@@ -145,7 +145,7 @@ HelpDocument help_document() {
       {"spectralize --color R,G,B [...] -o PLOT.png|PLOT.svg", "a plot of their spectra"},
       {"spectralize --plot-pixel X,Y IN.exr -o PLOT.png", "a plot of a pixel of a spectral EXR"},
       {"spectralize ingest SRC... -o DESTDIR [options]",
-       "a texture library (files, folders, globs) to spectral OpenEXR"},
+       "a texture library (files, folders, globs, a USD stage) to spectral OpenEXR"},
       {"spectralize table -o NAME.spztab [options]",
        "a render-time table of exact spectra (spectralize/rt.h)"},
   };

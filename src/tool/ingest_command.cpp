@@ -4,7 +4,11 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "ingest/ingest.h"
@@ -14,6 +18,7 @@
 #include "text/strings.h"
 #include "tool/console.h"
 #include "tool/options.h"
+#include "tool/usd_stage.h"
 
 namespace spectralize::tool {
 
@@ -35,6 +40,41 @@ void print_summary(const IngestSummary& s, bool merged) {
              s.seconds > 0 ? static_cast<double>(s.files()) / s.seconds : 0.0, s.manifest);
 }
 
+// A temporary file for the stage's list, removed when done.
+struct TemporaryList {
+  std::string path;
+  TemporaryList() {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "spectralize-usd-XXXXXX.jsonl").string();
+    const int fd = ::mkstemps(pattern.data(), 6);
+    if (fd < 0) throw FileError("cannot create a temporary file in " + pattern);
+    ::close(fd);
+    path = pattern;
+  }
+  ~TemporaryList() { std::remove(path.c_str()); }
+  TemporaryList(const TemporaryList&) = delete;
+  TemporaryList& operator=(const TemporaryList&) = delete;
+};
+
+// A helper that could not run: why, for the stage.
+std::string helper_failure(int status) {
+  if (status == 3)
+    return "reading a USD stage needs OpenUSD's Python bindings (pip install usd-core) in '" +
+           usd_python() + "' (set SPECTRALIZE_PYTHON to a Python that has them)";
+  return "the stage could not be read (exit " + std::to_string(status) + ")";
+}
+
+// The options of the batch that shape a light's spectrum too, for the helper (Python's names).
+std::string light_options(const Settings& s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, value] : describe_settings(s, kIngest))
+    if (key == "wavelengths" || key == "observer" || key == "model" || key == "filter" ||
+        key == "curvature")
+      j[key] = value;
+  if (!s.config.empty()) j["config"] = s.config;
+  return j.dump();
+}
+
 }  // namespace
 
 int run_ingest_command(const Options& opt) {
@@ -47,14 +87,25 @@ int run_ingest_command(const Options& opt) {
     return s.ok() ? kExitOk : kExitFailure;
   }
   IngestRequest request;
-  request.sources = opt.inputs;
+  std::string stage;  // a USD stage among the sources: its textures come as a list
+  for (const std::string& input : opt.inputs) {
+    if (!is_usd_stage(input)) {
+      request.sources.push_back(input);
+    } else if (stage.empty()) {
+      stage = input;
+    } else {
+      throw UsageError{"ingest: one USD stage per batch (its layer is DESTDIR/spectral.usda): '" +
+                       stage + "' and '" + input + "'"};
+    }
+  }
   request.inputs_from = opt.inputs_from;
   request.destination = opt.output;
   request.manifest = opt.manifest;
   request.force = opt.force;
   request.settings = opt.settings;
-  if (request.sources.empty() && request.inputs_from.empty())
-    throw UsageError{"ingest: give the files, folders or patterns to ingest (or --inputs-from)"};
+  if (request.sources.empty() && request.inputs_from.empty() && stage.empty())
+    throw UsageError{
+        "ingest: give the files, folders, patterns or USD stage to ingest (or --inputs-from)"};
   // The config and colour space are command-line values: checked before any work.
   const OptionNames names{"--", "-o"};
   JobPlan job = usage_checked("", [&] { return plan_to_spectral(request.settings, "", names); });
@@ -65,6 +116,43 @@ int run_ingest_command(const Options& opt) {
   });
   request.shard = shard.index;
   request.shards = shard.count;
+  if (!stage.empty() && shard.count > 1)
+    throw UsageError{
+        "ingest: a USD stage is ingested by one process (its layer names every "
+        "texture's output); give it without --shard or a job array"};
+  // The stage's textures, as list lines (tool/usd_stage.h); its lights after the batch.
+  std::optional<TemporaryList> stage_list;
+  bool stage_ok = true;
+  if (!stage.empty()) {
+    if (!std::filesystem::is_regular_file(stage))
+      throw FileError("USD stage '" + stage + "': no such file");
+    stage_list.emplace();
+    std::error_code ec;
+    std::filesystem::create_directories(opt.output, ec);
+    const int status = run_usd_helper({"lines", stage, opt.output, stage_list->path});
+    if (status != 0) {
+      if (status != 1)  // 1: the helper said why
+        fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200),
+                   helper_failure(status));
+      stage_ok = false;
+    } else if (std::filesystem::file_size(stage_list->path, ec) > 0) {
+      request.made_lists.push_back(stage_list->path);
+    }
+    if (request.sources.empty() && request.inputs_from.empty() && request.made_lists.empty()) {
+      if (!stage_ok) return kExitFailure;
+      // A stage without textures: its lights and layer only.
+      const std::string manifest =
+          opt.manifest.empty()
+              ? (std::filesystem::path(opt.output) / "spectralize-ingest.jsonl").string()
+              : opt.manifest;
+      const int done = run_usd_helper({"finish", stage, opt.output, manifest,
+                                       light_options(job.settings), std::to_string(opt.verbosity)});
+      if (done != 0 && done != 1)
+        fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), helper_failure(done));
+      return done == 0 ? kExitOk : kExitFailure;
+    }
+  }
+  const std::string batch_settings_json = light_options(job.settings);
   const IngestPlan plan = usage_checked("", [&] { return plan_ingest(request, std::move(job)); });
   const LogFn log = console_log(opt.verbosity);
   if (opt.verbosity >= 2)
@@ -96,7 +184,14 @@ int run_ingest_command(const Options& opt) {
   };
   const IngestSummary s = run_ingest(plan, progress, log);
   if (opt.verbosity > 0) print_summary(s, false);
-  return s.ok() ? kExitOk : kExitFailure;
+  if (!stage.empty() && stage_ok) {
+    const int status = run_usd_helper({"finish", stage, opt.output, plan.manifest,
+                                       batch_settings_json, std::to_string(opt.verbosity)});
+    if (status != 0 && status != 1)
+      fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), helper_failure(status));
+    stage_ok = status == 0;
+  }
+  return s.ok() && stage_ok ? kExitOk : kExitFailure;
 }
 
 }  // namespace spectralize::tool

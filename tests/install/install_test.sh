@@ -72,6 +72,11 @@ cp -r "$source/tests/install/consumer" "$work/consumer"
 cp -r "$source/tests/install/rt_consumer" "$work/rt_consumer"
 cp -r "$source/tests/install/rt_c_consumer" "$work/rt_c_consumer"
 printf '{"source": "in.exr", "wavelengths": "400:700:10"}\n' >"$work/r.spectral"
+# A USD stage written here by hand (a DomeLight and its HDRI), read through OpenUSD where the
+# pinned packages' environment has it: the installed tool finds the installed module.
+usd_python="${SPECTRALIZE_VENV:-$HOME/.cache/spectralize/venv}/bin/python"
+printf '#usda 1.0\ndef DomeLight "Sky"\n{\n    asset inputs:texture:file = @in.exr@\n}\n' \
+  >"$work/stage.usda"
 
 cat >"$work/checks.sh" <<CHECKS
 set -euo pipefail
@@ -131,6 +136,14 @@ cc -std=c99 rt_c_consumer/main.c -o rt-c-pc-static \
   \$(pkg-config --cflags spectralize-rt) "$prefix/lib/libspectralize_rt.a" \$(pkg-config --libs-only-l --static spectralize-rt | sed 's/-lspectralize_rt//')
 ./rt-c-pc-static srgb.spztab "\$data/cie1931_2deg_cmf_1nm.csv" "\$data/cie_illuminant_d65_1nm.csv"
 /usr/bin/python3 rt_c_consumer/rt_ctypes.py "$prefix/lib/libspectralize_rt.so" srgb.spztab
+if [ -x "$usd_python" ] && "$usd_python" -c "import pxr" 2>/dev/null; then
+  SPECTRALIZE_PYTHON="$usd_python" spectralize ingest stage.usda -o usd-out -q --wavelengths 400:700:10
+  [ -f usd-out/in.exr ] && grep -q 'spectralize:file = @in.exr@' usd-out/spectral.usda ||
+    { echo "FAILED: the installed tool's USD stage"; ls -R usd-out; exit 1; }
+  echo "usd stage ok"
+else
+  echo "no OpenUSD in $usd_python: the USD stage check is skipped"
+fi
 echo "all installed checks passed"
 CHECKS
 

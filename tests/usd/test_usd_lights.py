@@ -119,14 +119,85 @@ def test_lights_that_cannot_be_made_are_named():
     UsdLux.DiskLight.Define(stage, "/Neg").CreateColorAttr(Gf.Vec3f(-0.1, 0.5, 0.5))
     warm = UsdLux.DiskLight.Define(stage, "/Warm")
     warm.CreateEnableColorTemperatureAttr(True)
-    warm.CreateColorTemperatureAttr(3200.0)
+    warm.CreateColorTemperatureAttr(12000.0)
     odd = UsdLux.DiskLight.Define(stage, "/Odd")  # a space the shipped config has none of
     Usd.ColorSpaceAPI.Apply(odd.GetPrim()).CreateColorSpaceNameAttr("pq_rec2020_display")
     UsdLux.DiskLight.Define(stage, "/Fine")
     records = spectralize.usd.lights(stage)
     failures = {r["prim"]: r["failure"] for r in records if "failure" in r}
     assert "negative" in failures["/Neg"]
-    assert "colour temperature" in failures["/Warm"]
+    assert "12000 K is outside UsdLux's valid range, 1000..10000 K" in failures["/Warm"]
     assert failures["/Odd"].startswith("</Odd>: ") and "pq_rec2020_display" in failures["/Odd"]
     assert set(failures) == {"/Neg", "/Warm", "/Odd"}  # the others are made
     assert [r["prim"] for r in records if "values" in r] == ["/Fine"]
+
+
+def planck(nm, kelvin):
+    """Planck's law, relative (CIE 015:2018 section 3.1: c2 = 1.4388e-2 m K)."""
+    m = np.asarray(nm) * 1e-9
+    return m**-5 / np.expm1(1.4388e-2 / (m * kelvin))
+
+
+def uv(x):
+    """CIE 1960 UCS chromaticity."""
+    d = x[0] + 15 * x[1] + 3 * x[2]
+    return np.array([4 * x[0] / d, 6 * x[1] / d])
+
+
+def cct(x):
+    """The correlated colour temperature: the Planckian radiator nearest in CIE 1960 uv (a
+    golden-section search over 1000..20000 K, to 1e-3 K)."""
+    target = uv(x)
+
+    def distance(t):
+        return np.hypot(*(uv(xyz(planck(NM, t), NM)) - target))
+
+    lo, hi = 1000.0, 20000.0
+    g = (np.sqrt(5) - 1) / 2
+    while hi - lo > 1e-3:
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        lo, hi = (lo, b) if distance(a) < distance(b) else (a, hi)
+    return (lo + hi) / 2
+
+
+def temperature_stage(space, kelvin=3200.0):
+    stage = Usd.Stage.CreateInMemory()
+    root = stage.DefinePrim("/World", "Xform")
+    if space:
+        Usd.ColorSpaceAPI.Apply(root).CreateColorSpaceNameAttr(space)
+    for name, colour in (("Tungsten", None), ("Gelled", Gf.Vec3f(0.9, 0.5, 0.2))):
+        light = UsdLux.RectLight.Define(stage, "/World/" + name)
+        light.CreateEnableColorTemperatureAttr(True)
+        light.CreateColorTemperatureAttr(kelvin)
+        light.CreateIntensityAttr(4.0)
+        light.CreateExposureAttr(0.5)
+        if colour is not None:
+            light.CreateColorAttr(colour)
+    return stage
+
+
+@pytest.mark.parametrize("space", [None, "lin_rec709_scene", "lin_rec2020_scene", "lin_ap1_scene"])
+def test_a_colour_temperature_is_plancks_law_its_cct_and_its_colour_multiplies_it(space):
+    import spectralize.usd
+    records = {r["prim"]: r for r in spectralize.usd.lights(temperature_stage(space))}
+    scale = 4.0 * 2**0.5
+    white = records["/World/Tungsten"]
+    assert white["color_temperature"] == 3200.0 and white["basis"] == "3200K"
+    grid, values = white["wavelengths"], white["values"]
+    # Its shape is Planck's law at 3200 K; its luminance UsdLux's (Y = intensity x 2^exposure).
+    ratio = values / planck(grid, 3200.0)
+    assert np.max(np.abs(ratio / ratio.mean() - 1)) <= 1e-6
+    got = xyz(values, grid)
+    assert abs(got[1] / scale - 1) <= 1e-5
+    assert abs(cct(got) - 3200.0) <= 1.0
+    # A color multiplies the radiator's RGB in the rendering space (white-balanced to the
+    # rendering illuminant as the other lights are): the test's own matrices and D-series.
+    m = SPACES[space or "lin_rec709_scene"]
+    basis = d_series(6000, NM) if space == "lin_ap1_scene" else np.interp(
+        NM, *[c.ravel() for c in table("cie_illuminant_d65_1nm.csv")])
+    w_basis = xyz(np.interp(grid, NM, basis), grid)
+    balance = (w_basis / w_basis[1]) / (m @ np.ones(3))
+    rgb_t = np.linalg.solve(m, got / scale / balance)
+    want = balance * (m @ (np.array([0.9, 0.5, 0.2]) * rgb_t * scale))
+    gelled = xyz(records["/World/Gelled"]["values"], grid)
+    assert np.max(np.abs(gelled - want)) / np.max(np.abs(want)) <= 1e-5, (gelled, want)

@@ -117,13 +117,29 @@ def test_each_texture_is_decided_by_what_the_stage_declares_and_what_it_feeds(us
 
 
 def test_list_lines_carry_the_decisions_ingest_takes(usd, studio):
-    lines = [usd.list_line(r) for r in usd.textures(studio / "scene.usda")]
-    by = {os.path.basename(line["input"]): line for line in lines if line}
-    assert by["albedo.png"] == {"input": str(studio / "albedo.png"),
-                                "colorspace": "srgb_rec709_scene", "mode": "reflectance"}
-    assert by["normal.png"] == {"input": str(studio / "normal.png"), "colorspace": "data"}
+    lines = [usd.list_line(r, studio) for r in usd.textures(studio / "scene.usda")]
+    by = {os.path.basename(line["input"]): line for line in lines}
+    assert by["albedo.png"] == {
+        "input": "albedo.png", "source": str(studio), "colorspace": "srgb_rec709_scene",
+        "mode": "reflectance",
+        "origin": {"where": "</World/Mat/Albedo>.inputs:file", "prim": "/World/Mat/Albedo",
+                   "attribute": "inputs:file", "asset": "albedo.png",
+                   "feeds": ["</World/Mat/Surface>.inputs:diffuseColor"],
+                   "colorspace_reason": "</World/Mat/Albedo>.inputs:sourceColorSpace 'sRGB'",
+                   "mode_reason": "feeds a surface colour: </World/Mat/Surface>.inputs:diffuseColor"}}
+    # Data: the config's data space, for the reason the stage gives.
+    assert by["normal.png"]["colorspace"] == "data" and "mode" not in by["normal.png"]
+    assert by["normal.png"]["origin"]["colorspace_reason"] == \
+        "</World/Mat/Normal>.inputs:sourceColorSpace 'raw'"
     assert by["sky.exr"]["mode"] == "emission"
-    assert len(lines) - len(by) == 1  # the missing file has no line
+    # Inside the stage's folder: relative, so the output mirrors its place (assets/prop.exr).
+    assert by["prop.png"]["input"] == os.path.join("assets", "prop.png")
+    # The missing file has a line too: ingest fails it, naming its prim.
+    assert by["nope.png"]["input"] == "nope.png"
+    assert by["nope.png"]["origin"]["where"] == "</World/Mat/Missing>.inputs:file"
+    # Without a source folder: the file's path as resolved.
+    assert usd.list_line(usd.textures(studio / "scene.usda")[0])["input"] == \
+        str(studio / "albedo.png")
 
 
 def test_a_stage_that_declares_nothing_leaves_the_files_to_decide(usd, tmp_path):
@@ -136,7 +152,10 @@ def test_a_stage_that_declares_nothing_leaves_the_files_to_decide(usd, tmp_path)
     stage.Save()
     [r] = usd.textures(tmp_path / "plain.usda")
     assert r["colorspace"] is None and r["mode"] == "reflectance"
-    assert usd.list_line(r) == {"input": str(tmp_path / "a.png"), "mode": "reflectance"}
+    line = usd.list_line(r)
+    assert (line["input"], line["mode"], "colorspace" in line) == \
+        (str(tmp_path / "a.png"), "reflectance", False)
+    assert "colorspace_reason" not in line["origin"]
 
 
 def test_a_stage_that_cannot_be_opened_is_named(usd, tmp_path):

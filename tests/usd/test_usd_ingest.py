@@ -1,0 +1,269 @@
+"""A USD stage ingested, from Python (spectralize.usd.ingest) and from the command line
+(`spectralize ingest STAGE.usda`): the manifest names the prim and input behind each decision
+and the reasons the stage gives; a file whose own tag contradicts the stage is reported and
+the stage followed; textures inside a .usdz; a changed layer reconverts only what it changes;
+failures (a missing asset, a layer that cannot be composed, a light that cannot be made, no
+OpenUSD in the Python) named with the exit status ingest's rules give. Stages are written
+here with pxr; expectations are written in the test."""
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("pxr")
+from pxr import Gf, Sdf, Usd, UsdLux, UsdShade, UsdUtils  # noqa: E402
+
+SOURCE = pathlib.Path(__file__).resolve().parents[2]
+IMAGES = SOURCE / "testimages"
+EXE = os.environ.get("SPECTRALIZE_EXE")
+GRID = "400:700:20"
+
+
+@pytest.fixture(scope="module")
+def usd():
+    import spectralize.usd
+    return spectralize.usd
+
+
+def texture(stage, path, file, source_space=None):
+    t = UsdShade.Shader.Define(stage, path)
+    t.CreateIdAttr("UsdUVTexture")
+    t.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(file)
+    if source_space:
+        t.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source_space)
+    return t
+
+
+def surface(stage, material, feeds):
+    """A UsdPreviewSurface of `material` fed by {input: (texture prim, file, sourceColorSpace)}."""
+    UsdShade.Material.Define(stage, material)
+    s = UsdShade.Shader.Define(stage, material + "/Surface")
+    s.CreateIdAttr("UsdPreviewSurface")
+    for name, (prim, file, space) in feeds.items():
+        kind = Sdf.ValueTypeNames.Normal3f if name == "normal" else Sdf.ValueTypeNames.Color3f
+        s.CreateInput(name, kind).ConnectToSource(
+            texture(stage, prim, file, space).ConnectableAPI(), "rgb")
+
+
+def tagged_exr(src, dst, interop_id):
+    """A copy of `src` whose header says it is `interop_id` (colorInteropID), by oiiotool."""
+    subprocess.run(["oiiotool", str(src), "--attrib", "colorInteropID", interop_id, "-o",
+                    str(dst)], check=True)
+
+
+@pytest.fixture
+def shop(tmp_path):
+    """A stage: an sRGB albedo, a raw normal map, an emissive map in the root's ACEScg, a
+    material in Rec.2020, one light."""
+    folder = tmp_path / "shop"
+    (folder / "tex").mkdir(parents=True)
+    for name in ("albedo.png", "normal.png", "glow.png", "paint.png"):
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / name)
+    stage = Usd.Stage.CreateNew(str(folder / "shop.usda"))
+    world = stage.DefinePrim("/World", "Xform")
+    Usd.ColorSpaceAPI.Apply(world).CreateColorSpaceNameAttr("lin_ap1_scene")
+    surface(stage, "/World/Mat", {"diffuseColor": ("/World/Mat/Albedo", "tex/albedo.png", "sRGB"),
+                                  "normal": ("/World/Mat/Normal", "tex/normal.png", "raw"),
+                                  "emissiveColor": ("/World/Mat/Glow", "tex/glow.png", None)})
+    painted = stage.DefinePrim("/World/Painted", "Material")
+    Usd.ColorSpaceAPI.Apply(painted).CreateColorSpaceNameAttr("lin_rec2020_scene")
+    surface(stage, "/World/Painted", {"diffuseColor": ("/World/Painted/Tex", "tex/paint.png", None)})
+    UsdLux.SphereLight.Define(stage, "/World/Key").CreateColorAttr(Gf.Vec3f(1.0, 0.8, 0.6))
+    stage.Save()
+    return folder
+
+
+def manifest(out):
+    return {os.path.basename(r["input"]): r
+            for r in map(json.loads, (out / "spectralize-ingest.jsonl").read_text().splitlines())
+            if "input" in r}
+
+
+def test_the_manifest_names_the_prim_and_input_behind_each_decision(usd, shop, tmp_path):
+    out = tmp_path / "out"
+    usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    m = manifest(out)
+    albedo = m["albedo.png"]
+    assert albedo["status"] == "converted"
+    assert albedo["origin"]["where"] == "</World/Mat/Albedo>.inputs:file"
+    assert albedo["origin"]["feeds"] == ["</World/Mat/Surface>.inputs:diffuseColor"]
+    # The reasons are the stage's, not "--colorspace" / "--mode".
+    assert albedo["colorspace_reason"] == "</World/Mat/Albedo>.inputs:sourceColorSpace 'sRGB'"
+    assert albedo["mode_reason"] == "feeds a surface colour: </World/Mat/Surface>.inputs:diffuseColor"
+    assert m["paint.png"]["colorspace_reason"] == \
+        "colorSpace:name 'lin_rec2020_scene' of </World/Painted> (UsdColorSpaceAPI)"
+    assert m["normal.png"]["status"] == "skipped_data"
+    assert "sourceColorSpace 'raw'" in m["normal.png"]["reason"]
+    # The output mirrors the file's place under the stage's folder.
+    assert pathlib.Path(albedo["output"]) == out / "tex" / "albedo.exr"
+    # A rerun: up to date, the reasons read back from the outputs' headers.
+    usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    again = manifest(out)["albedo.png"]
+    assert again["status"] == "up_to_date"
+    assert again["colorspace_reason"] == albedo["colorspace_reason"]
+    assert again["origin"] == albedo["origin"]
+
+
+def test_a_file_whose_own_tag_contradicts_the_stage_is_reported_and_the_stage_wins(usd, tmp_path):
+    folder = tmp_path / "stage"
+    folder.mkdir()
+    tagged_exr(IMAGES / "hdri_sunset_256x128.exr", folder / "photo.exr", "srgb_rec709_scene")
+    tagged_exr(IMAGES / "hdri_sunset_256x128.exr", folder / "glow.exr", "srgb_rec709_scene")
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/M", {"normal": ("/M/Photo", "photo.exr", "raw"),
+                          "emissiveColor": ("/M/Glow", "glow.exr", None)})
+    Usd.ColorSpaceAPI.Apply(stage.GetPrimAtPath("/M")).CreateColorSpaceNameAttr("lin_ap1_scene")
+    stage.Save()
+    out = tmp_path / "out"
+    usd.ingest(folder / "s.usda", out, wavelengths=GRID)
+    m = manifest(out)
+    photo, glow = m["photo.exr"], m["glow.exr"]
+    assert photo["status"] == "skipped_data"  # the stage says raw: followed
+    assert "colorInteropID 'srgb_rec709_scene'" in photo["contradiction"]
+    assert "sourceColorSpace 'raw'" in photo["contradiction"]
+    assert (glow["status"], glow["colorspace"]) == ("converted", "ACEScg")
+    assert "colorInteropID 'srgb_rec709_scene'" in glow["contradiction"]
+    assert "'ACEScg' is followed" in glow["contradiction"]
+    assert any("'ACEScg' is followed" in w for w in glow["warnings"])
+    # Where the stage agrees with the file, nothing is said.
+    assert "contradiction" not in manifest(out).get("albedo.png", {})
+
+
+def test_textures_inside_a_usdz_are_converted_and_found_up_to_date(usd, tmp_path):
+    folder = tmp_path / "asset"
+    (folder / "tex").mkdir(parents=True)
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / "albedo.png")
+    stage = Usd.Stage.CreateNew(str(folder / "asset.usda"))
+    surface(stage, "/Asset", {"diffuseColor": ("/Asset/Albedo", "tex/albedo.png", "sRGB")})
+    stage.SetDefaultPrim(stage.GetPrimAtPath("/Asset"))
+    stage.Save()
+    package = tmp_path / "asset.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(str(folder / "asset.usda"), str(package))
+    shutil.rmtree(folder)  # only the package is left
+    out = tmp_path / "out"
+    summary = usd.ingest(package, out, wavelengths=GRID)
+    [record] = summary["textures"]
+    assert record["packaged"].startswith(str(package) + "[")
+    m = manifest(out)["albedo.png"]
+    assert (m["status"], m["mode"], m["colorspace"]) == ("converted", "reflectance", "sRGB - Texture")
+    assert m["origin"]["packaged"] == record["packaged"]
+    # The layer over the package names the spectral file.
+    layer = Usd.Stage.Open(str(out / "spectral.usda"))
+    spectral = layer.GetPrimAtPath("/Asset/Albedo").GetAttribute("spectralize:file").Get()
+    assert os.path.isfile(spectral.resolvedPath)
+    again = usd.ingest(package, out, wavelengths=GRID)
+    assert (again["converted"], again["up_to_date"]) == (0, 1)
+
+
+def test_a_changed_layer_reconverts_only_what_it_changes(usd, shop, tmp_path):
+    out = tmp_path / "out"
+    first = usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    assert first["converted"] == 3
+    # The material's space changes; another texture's file is swapped for a new one.
+    layer = Sdf.Layer.FindOrOpen(str(shop / "shop.usda"))
+    layer.GetAttributeAtPath("/World/Painted.colorSpace:name").default = "lin_ap1_scene"
+    shutil.copy(IMAGES / "grey_ramp8.png", shop / "tex" / "glow2.png")
+    layer.GetAttributeAtPath("/World/Mat/Glow.inputs:file").default = Sdf.AssetPath("tex/glow2.png")
+    layer.Save()
+    second = usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    m = manifest(out)
+    assert (second["converted"], second["up_to_date"]) == (2, 1)
+    assert (m["paint.png"]["status"], m["paint.png"]["colorspace"]) == ("converted", "ACEScg")
+    assert m["glow2.png"]["status"] == "converted" and m["albedo.png"]["status"] == "up_to_date"
+
+
+def test_what_cannot_be_done_is_named_and_the_rest_converted(usd, shop, tmp_path):
+    stage = Usd.Stage.Open(str(shop / "shop.usda"))
+    stage.GetRootLayer().subLayerPaths.append("gone.usda")  # a layer that cannot be read
+    texture(stage, "/World/Mat/Lost", "tex/lost.png")       # a missing asset
+    UsdLux.DiskLight.Define(stage, "/World/Neg").CreateColorAttr(Gf.Vec3f(-1, 0, 0))
+    stage.Save()
+    out = tmp_path / "out"
+    with pytest.warns(Warning) as said:
+        summary = usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    assert summary["converted"] == 3 and summary["failed"] == 1
+    [lost] = summary["failures"]
+    assert lost["origin"]["where"] == "</World/Mat/Lost>.inputs:file"
+    assert [r["prim"] for r in summary["light_failures"]] == ["/World/Neg"]
+    assert len(summary["layer_failures"]) == 1 and "gone.usda" in summary["layer_failures"][0]
+    text = " ".join(str(w.message) for w in said)
+    assert "</World/Neg>" in text and "gone.usda" in text
+
+
+# --- The command line ---
+
+needs_exe = pytest.mark.skipif(not EXE, reason="SPECTRALIZE_EXE is not set (ctest sets it)")
+
+
+def run(*args, env=None):
+    return subprocess.run([EXE, *map(str, args)], capture_output=True, text=True,
+                          env=dict(os.environ, **(env or {})))
+
+
+@needs_exe
+def test_the_command_line_ingests_a_stage_as_python_does(usd, shop, tmp_path):
+    cli, py = tmp_path / "cli", tmp_path / "py"
+    done = run("ingest", shop / "shop.usda", "-o", cli, "--wavelengths", GRID)
+    assert done.returncode == 0, done.stderr
+    usd.ingest(shop / "shop.usda", py, wavelengths=GRID)
+    a, b = manifest(cli), manifest(py)
+    keys = ("status", "colorspace", "colorspace_reason", "mode", "mode_reason", "origin")
+    assert {n: [r.get(k) for k in keys] for n, r in a.items()} == \
+        {n: [r.get(k) for k in keys] for n, r in b.items()}
+    for name, r in a.items():  # the same spectra, value for value (oiiotool: 0 tolerated)
+        if r["status"] == "converted":
+            same = subprocess.run(["oiiotool", "--fail", "0", "--warn", "0", "--diff", r["output"],
+                                   b[name]["output"]], capture_output=True)
+            assert same.returncode == 0, same.stdout
+    assert json.loads((cli / "lights" / "World__Key.json").read_text())["values"] == \
+        pytest.approx(json.loads((py / "lights" / "World__Key.json").read_text())["values"])
+    layer = Usd.Stage.Open(str(cli / "spectral.usda"))
+    assert os.path.isfile(layer.GetPrimAtPath("/World/Mat/Albedo")
+                          .GetAttribute("spectralize:file").Get().resolvedPath)
+    assert "USD stage" in done.stderr and "1 lights made, 0 failed" in done.stderr
+    # A second run converts nothing.
+    again = run("ingest", shop / "shop.usda", "-o", cli, "--wavelengths", GRID)
+    assert again.returncode == 0 and "0 converted, 3 up to date" in again.stderr
+
+
+@needs_exe
+def test_the_command_line_exits_one_naming_what_failed(shop, tmp_path):
+    stage = Usd.Stage.Open(str(shop / "shop.usda"))
+    texture(stage, "/World/Mat/Lost", "tex/lost.png")
+    UsdLux.DiskLight.Define(stage, "/World/Neg").CreateColorAttr(Gf.Vec3f(-1, 0, 0))
+    stage.Save()
+    out = tmp_path / "out"
+    done = run("ingest", shop / "shop.usda", "-o", out, "--wavelengths", GRID)
+    assert done.returncode == 1
+    assert "</World/Mat/Lost>.inputs:file" in done.stderr
+    assert "</World/Neg>: a negative colour" in done.stderr
+    m = manifest(out)
+    assert m["lost.png"]["status"] == "failed" and m["albedo.png"]["status"] == "converted"
+    assert (out / "spectral.usda").is_file()  # the rest is done
+
+
+@needs_exe
+def test_the_command_line_without_openusd_says_what_to_install(shop, tmp_path):
+    out = tmp_path / "out"
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", tmp_path / "other.png")
+    # Debian's Python has no pxr; the module is found all the same.
+    done = run("ingest", shop / "shop.usda", tmp_path / "other.png", "-o", out,
+               env={"SPECTRALIZE_PYTHON": "/usr/bin/python3"})
+    assert done.returncode == 1
+    assert "usd-core" in done.stderr and "shop.usda" in done.stderr
+    assert manifest(out)["other.png"]["status"] == "converted"  # the other input is done
+    assert not (out / "spectral.usda").exists()
+
+
+@needs_exe
+def test_the_command_line_refuses_two_stages_and_a_missing_one(shop, tmp_path):
+    done = run("ingest", shop / "shop.usda", shop / "shop.usda", "-o", tmp_path / "o")
+    assert done.returncode == 2 and "one USD stage per batch" in done.stderr
+    done = run("ingest", tmp_path / "nope.usdc", "-o", tmp_path / "o")
+    assert done.returncode == 1 and "nope.usdc" in done.stderr and "no such file" in done.stderr
+    done = run("ingest", shop / "shop.usda", "-o", tmp_path / "o", "--shard", "0/2")
+    assert done.returncode == 2 and "one process" in done.stderr
