@@ -30,6 +30,7 @@
 #include "pipeline/render_table.h"
 #include "pipeline/table_pool.h"
 #include "py_arrays.h"
+#include "py_colour_space.h"
 #include "py_image_rgb.h"
 #include "py_interrupt.h"
 #include "py_options.h"
@@ -463,6 +464,7 @@ Functions:
     table(output, **options)                 a render-time table (.spztab) of a colour space
     rt.Table(path).spectra(rgb)              a table's spectra of RGB colours, at table speed
     models()                                 the spectrum models
+    colour_space(name)                       what is known of a colour space of the config
 
 Options are the command-line tool's, named by their recipe keys (--emission-basis is
 emission_basis=...), with the same validation. Bad options raise ValueError (TypeError for a
@@ -548,6 +550,7 @@ PYBIND11_MODULE(spectralize, m) {
             .c_str());
   add_rt_module(m);
   add_image_rgb(m);
+  add_colour_space(m);
   m.def("models", &models,
         "models() -> list of dicts (name, summary, default): the spectrum models for model=.\n"
         "No arguments. Cost: O(models).");

@@ -61,10 +61,17 @@ def _open(stage):
     try:
         opened = Usd.Stage.Open(path, Usd.Stage.LoadAll)
     except Exception as e:  # pxr raises Tf errors as RuntimeError and friends
-        raise OSError("USD stage '%s': %s" % (path, str(e).strip())) from e
+        raise OSError("USD stage '%s': %s" % (path, _tf_message(str(e)))) from e
     if not opened:
         raise OSError("USD stage '%s': OpenUSD cannot open it" % path)
     return opened
+
+
+def _tf_message(text):
+    """OpenUSD's own words of a Tf error, without where in OpenUSD's sources it was raised."""
+    text = text.strip()
+    m = re.match(r"^Error in '[^']*' at line \d+ in file [^:]* : '(.*)'$", text, re.S)
+    return (m.group(1) if m else text).strip()
 
 
 def _space_in_force(prim, undeclared, undeclared_reason):
@@ -93,20 +100,54 @@ def _declared_space(prim):
     return None, None
 
 
+# Inputs that say what a texture is; a shader input of another name (a multiply, a
+# transform) passes the texture on, so what its outputs feed decides.
+DATA_INPUTS = {"normal", "roughness", "metallic", "opacity", "opacityThreshold", "displacement",
+               "occlusion", "clearcoat", "clearcoatRoughness", "ior", "specular_roughness",
+               "metalness", "coat", "coat_roughness", "transmission", "bump", "height"}
+
+
 def _consumers(stage):
-    """For each prim a shader input is connected to: the inputs that read it, as
-    (consumer prim, input name)."""
+    """For each prim whose outputs shader inputs read: the inputs that decide what it is, as
+    (consumer prim, input name), followed through NodeGraph and Material outputs and interface
+    inputs and through shaders that pass a texture on."""
     _, Usd, _, UsdShade = _pxr()
-    fed = {}
+    edges = {}  # (source prim path, its port name) -> [(consumer prim, port name, is output)]
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
         connectable = UsdShade.ConnectableAPI(prim)
         if not connectable:
             continue
-        for inp in connectable.GetInputs():
-            for source in inp.GetConnectedSources()[0]:
-                fed.setdefault(source.source.GetPrim().GetPath(), []).append(
-                    (prim, inp.GetBaseName()))
-    return fed
+        ports = [(i, False) for i in connectable.GetInputs()] + \
+                [(o, True) for o in connectable.GetOutputs()]
+        for port, is_output in ports:
+            for source in port.GetConnectedSources()[0]:
+                key = (source.source.GetPrim().GetPath(), str(source.sourceName))
+                edges.setdefault(key, []).append((prim, port.GetBaseName(), is_output))
+    by_prim = {}
+    for (path, _), consumers in edges.items():
+        by_prim.setdefault(path, []).extend(consumers)
+
+    def deciding(path):
+        out, seen, todo = [], set(), list(by_prim.get(path, []))
+        while todo:
+            prim, name, is_output = todo.pop(0)
+            if (prim.GetPath(), name, is_output) in seen:
+                continue
+            seen.add((prim.GetPath(), name, is_output))
+            if not prim.IsA(UsdShade.Shader):  # a graph's or material's port: what it feeds
+                todo += edges.get((prim.GetPath(), name), [])
+                continue
+            shader_id = UsdShade.Shader(prim).GetShaderId()
+            passes_on = (not is_output and shader_id != "UsdPreviewSurface" and
+                         name not in SURFACE_COLOUR_INPUTS | EMISSIVE_COLOUR_INPUTS | DATA_INPUTS)
+            onward = by_prim.get(prim.GetPath(), []) if passes_on else []
+            if onward:
+                todo += onward
+            elif not is_output:
+                out.append((prim, name))
+        return out
+
+    return {path: deciding(path) for path in by_prim}
 
 
 def _anchored(attr, path):
@@ -132,16 +173,21 @@ def _resolved(attr, asset):
     return sorted(tiles)
 
 
-def _texture_records(prim, attr, decide):
+def _texture_records(prim, named, attr, decide):
+    """The records of the file(s) the attribute `named` of `prim` names, its value given by
+    `attr` (itself, or the interface input it is connected to)."""
     value = attr.Get()
     record = {"asset": value.path if value else "", "prim": str(prim.GetPath()),
-              "attribute": attr.GetName()}
+              "attribute": named.GetName()}
+    if attr.GetPath() != named.GetPath():
+        record["value_from"] = str(attr.GetPath())
     record.update(decide())
     files = _resolved(attr, value) if value else []
     if not files:
         failed = dict(record)
-        failed["failure"] = "%s.%s: asset '%s' not found" % (record["prim"], record["attribute"],
-                                                              record["asset"])
+        failed["failure"] = "%s.%s: %s" % (
+            record["prim"], record["attribute"],
+            "asset '%s' not found" % record["asset"] if record["asset"] else "no asset authored")
         if value and value.path:
             failed["missing"] = _anchored(attr, value.path)
         return [failed]
@@ -153,20 +199,33 @@ def _texture_records(prim, attr, decide):
     return out
 
 
-def _uv_texture_decision(shader_prim, fed):
+def _producing(inp):
+    """The attribute that gives a shader input its value: its own, or through its connections
+    (a Material's interface input)."""
+    attrs = inp.GetValueProducingAttributes()
+    return attrs[0] if attrs else inp.GetAttr()
+
+
+def _uv_texture_decision(shader_prim, fed, file_attr):
     _, _, _, UsdShade = _pxr()
     shader = UsdShade.Shader(shader_prim)
     where = "<%s>" % shader_prim.GetPath()
     feeds = ["<%s>.inputs:%s" % (p.GetPath(), name) for p, name in fed.get(shader_prim.GetPath(), [])]
     names = {name for _, name in fed.get(shader_prim.GetPath(), [])}
     source = shader.GetInput("sourceColorSpace")
-    word = str(source.Get()) if source and source.Get() else "auto"
+    value = _producing(source).Get() if source else None
+    word = str(value) if value else "auto"
     d = {"feeds": feeds}
     if word == "raw":
         d["colorspace"], d["colorspace_reason"] = "data", where + ".inputs:sourceColorSpace 'raw'"
     elif word == "sRGB":
         d["colorspace"] = "srgb_rec709_scene"
         d["colorspace_reason"] = where + ".inputs:sourceColorSpace 'sRGB'"
+    elif file_attr.HasColorSpace():  # the asset attribute's own colorSpace metadata
+        declared = str(file_attr.GetColorSpace())
+        d["colorspace"] = "data" if declared in DATA_SPACES else declared
+        d["colorspace_reason"] = "colorSpace '%s' of <%s>.%s" % (
+            declared, file_attr.GetPrim().GetPath(), file_attr.GetName())
     else:
         d["colorspace"], d["colorspace_reason"] = _space_in_force(shader_prim, None,
                                                                   NO_DECLARATION)
@@ -206,12 +265,13 @@ def textures(stage):
             file_input = shader.GetInput("file")
             if not file_input:
                 continue
-            out += _texture_records(prim, file_input.GetAttr(),
-                                    lambda: _uv_texture_decision(prim, fed))
+            attr = _producing(file_input)
+            out += _texture_records(prim, file_input.GetAttr(), attr,
+                                    lambda: _uv_texture_decision(prim, fed, attr))
         elif prim.IsA(UsdLux.DomeLight) or prim.IsA(UsdLux.DomeLight_1):
             attr = prim.GetAttribute("inputs:texture:file")
             if attr and attr.HasAuthoredValue():
-                out += _texture_records(prim, attr, lambda: _dome_decision(prim))
+                out += _texture_records(prim, attr, attr, lambda: _dome_decision(prim))
     return out
 
 
@@ -220,8 +280,9 @@ def _origin(record):
     o = {"where": "<%s>.%s" % (record["prim"], record["attribute"]), "prim": record["prim"],
          "attribute": record["attribute"], "asset": record["asset"],
          "feeds": record.get("feeds", [])}
-    if record.get("packaged"):
-        o["packaged"] = record["packaged"]
+    for key in ("value_from", "packaged"):
+        if record.get(key):
+            o[key] = record[key]
     # The reasons of what the line gives (ingest records them instead of "--colorspace").
     if record.get("mode") == "data":
         o["colorspace_reason"] = (record["colorspace_reason"] if record.get("colorspace") == "data"
@@ -233,15 +294,24 @@ def _origin(record):
     return o
 
 
-def list_line(record, source=None):
+# Where a file outside the stage's folder is mirrored in the output: its absolute path under
+# this folder, so two libraries' albedo.png stay apart.
+EXTERNAL_FOLDER = "external"
+
+
+def list_line(record, source=None, stage_file=None):
     """A record as a line of `ingest --inputs-from` (a JSON object: the file, the settings the
     stage decided, data as the config's data role, and "origin": the prim, attribute, inputs
     it feeds and the reasons, which ingest records in the manifest). With `source` (a folder,
     the stage's), a file inside it is given relative to it, so the output mirrors its place
-    there. A record whose file is missing becomes a line for the missing file, which ingest
-    fails naming its prim. Cost: O(1)."""
+    there, and a file outside it is mirrored under external/ by its absolute path. A record
+    whose file is missing becomes a line for the missing file, which ingest fails naming its
+    prim; one with no file at all, with `stage_file`, a failure line for the stage. Cost: O(1)."""
     path = record.get("input") or record.get("missing")
     if not path:
+        if record.get("failure") and stage_file:
+            return {"input": stage_file, "failure": record["failure"].split(": ", 1)[-1],
+                    "origin": _origin(record)}
         return None
     line = {"input": path}
     source = record.get("package_folder", source)  # a packaged file mirrors its package's tree
@@ -249,6 +319,8 @@ def list_line(record, source=None):
         rel = os.path.relpath(path, source)
         if not rel.startswith(".."):
             line = {"input": rel, "source": os.path.abspath(source)}
+        else:
+            line["as"] = os.path.join(EXTERNAL_FOLDER, os.path.abspath(path).lstrip(os.sep))
     if record.get("mode") == "data":
         line["colorspace"] = "data"
     else:
@@ -263,7 +335,7 @@ def list_line(record, source=None):
 PACKAGE_FOLDER = "usdz-contents"
 
 
-def _unpack(records, output):
+def _unpack(records, output, reads):
     """Each texture inside a .usdz package copied out once into output/usdz-contents/
     <package>/ (kept, with the package's time, so a rerun finds it and its output up to date);
     the record's "input" becomes that file, "packaged" the path inside the package."""
@@ -275,6 +347,7 @@ def _unpack(records, output):
         package, inner = path[:-1].split("[", 1)
         stem = os.path.splitext(os.path.basename(package))[0]
         target = os.path.join(output, PACKAGE_FOLDER, stem, os.path.normpath(inner))
+        _refuse_to_replace(target, reads)
         st = os.stat(package)
         done = os.path.isfile(target) and os.stat(target).st_mtime_ns == st.st_mtime_ns
         if not done:
@@ -316,8 +389,23 @@ def _write_atomically(path, write):
         raise
 
 
+def _reads(opened, records=()):
+    """Every file the stage's ingest reads: its layers, packages and textures (real paths)."""
+    paths = {layer.realPath for layer in opened.GetUsedLayers() if layer.realPath}
+    paths |= {r["input"] for r in records if r.get("input")}
+    return {os.path.realpath(p.split("[", 1)[0]) for p in paths}
+
+
+def _refuse_to_replace(path, reads):
+    """OSError when writing `path` would replace a file the stage's ingest reads."""
+    if os.path.realpath(path) in reads:
+        raise OSError("'%s' is a file of the stage (a layer, package or texture): writing it "
+                      "would replace it; choose another output folder" % path)
+
+
 def _light_file_name(prim):
-    return prim.strip("/").replace("/", "__") or "root"
+    # Prim names are identifiers (letters, digits, _): "." cannot be part of one.
+    return prim.strip("/").replace("/", ".") or "root"
 
 
 def _custom(spec, name, type_name):
@@ -327,16 +415,27 @@ def _custom(spec, name, type_name):
                              Sdf.VariabilityVarying, True)
 
 
-def _override_layer(path, root_layer, textures_done, light_records):
+def _override_layer(path, opened, textures_done, light_records):
     """spectral.usda: the original stage as a sublayer, and overs that only add attributes in
-    the spectralize: namespace (docs/guide/files.md)."""
+    the spectralize: namespace (docs/guide/files.md). Returns the prims it could not point at:
+    those under an instance, where OpenUSD ignores a layer's opinions."""
     Sdf, _, _, _ = _pxr()
     folder = os.path.dirname(os.path.abspath(path))
+    skipped = []
+
+    def under_instance(prim_path):
+        prim = opened.GetPrimAtPath(prim_path)
+        if prim and prim.IsInstanceProxy():
+            skipped.append(prim_path)
+            return True
+        return False
 
     def write(tmp):
         layer = Sdf.Layer.CreateAnonymous(".usda")
-        layer.subLayerPaths.append(os.path.relpath(root_layer, folder))
+        layer.subLayerPaths.append(os.path.relpath(opened.GetRootLayer().realPath, folder))
         for prim, entries in textures_done.items():
+            if under_instance(prim):
+                continue
             spec = Sdf.CreatePrimInLayer(layer, prim)
             spec.specifier = Sdf.SpecifierOver
             outputs = [os.path.relpath(e["output"], folder) for e in entries]
@@ -350,7 +449,7 @@ def _override_layer(path, root_layer, textures_done, light_records):
                 a = _custom(spec, "spectralize:" + key, "String")
                 a.default = str(entries[0][key])
         for r in light_records:
-            if "values" not in r:
+            if "values" not in r or under_instance(r["prim"]):
                 continue
             spec = Sdf.CreatePrimInLayer(layer, r["prim"])
             spec.specifier = Sdf.SpecifierOver
@@ -363,45 +462,62 @@ def _override_layer(path, root_layer, textures_done, light_records):
             raise OSError("'%s': OpenUSD cannot write the layer" % path)
 
     _write_atomically(path, write)
+    return ["<%s>: under an instance, where a layer's opinions are ignored: its spectra are not "
+            "in the layer" % p for p in skipped]
 
 
-def _stage_lines(opened, output):
-    """The stage's texture records (packaged ones copied out under `output`) and their list
-    lines, relative to the stage's folder."""
+def _decision_tag(record):
+    tag = "-".join([record.get("mode") or "auto", record.get("colorspace") or "own"])
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", tag)
+
+
+def _stage_lines(opened, output, options):
+    """What the stage gives ingest: its texture records (packaged ones copied out under
+    `output`), the list lines (relative to the stage's folder; one per file and decision, a
+    file the stage declares differently in two places converted once per decision, under a
+    tagged name; failure lines for what has no file, the layers the stage cannot compose and
+    the lights that cannot be made), the light records (each made light written as
+    output/lights/<prim>.json) and the conflicts said."""
     records = textures(opened)
-    _unpack(records, output)
-    source = os.path.dirname(opened.GetRootLayer().realPath)
-    lines = [list_line(r, source) for r in records]
-    return records, [line for line in lines if line]
-
-
-def _write_lines(path, lines):
-    with open(path, "w", encoding="utf-8") as f:
-        for line in lines:
-            f.write(json.dumps(line) + "\n")
-
-
-def _finish(opened, records, output, manifest, options):
-    """After ingest: what each texture became (from the manifest), the lights' spectra (one
-    JSON each under output/lights/), spectral.usda, and what the stage could not compose."""
-    done = {}
-    if os.path.isfile(manifest):
-        with open(manifest, encoding="utf-8") as f:
-            for line in f:
-                m = json.loads(line)
-                if m.get("status") in ("converted", "up_to_date") and "output" in m:
-                    done[os.path.abspath(m["input"])] = m
-    textures_done = {}
+    reads = _reads(opened, records)
+    _refuse_to_replace(os.path.join(output, "spectral.usda"), reads)
+    _unpack(records, output, reads)
+    root = opened.GetRootLayer().realPath
+    source = os.path.dirname(root)
+    groups = {}
     for r in records:
-        m = done.get(os.path.abspath(r["input"])) if "input" in r else None
-        if m:
-            r["output"] = os.path.abspath(m["output"])
-            textures_done.setdefault(r["prim"], []).append(
-                {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace")})
+        if r.get("input") or r.get("missing"):
+            key = (r.get("colorspace"), r.get("mode"))
+            groups.setdefault(r.get("input") or r["missing"], {}).setdefault(key, []).append(r)
+    lines, conflicts = [], []
+    for path, decisions in groups.items():
+        if len(decisions) > 1:
+            said = "; ".join("%s: %s" % (", ".join("<%s>" % r["prim"] for r in rs),
+                                         "%s (%s)" % (k[1] or "its own mode", k[0] or "its own space"))
+                             for k, rs in decisions.items())
+            conflicts.append("'%s' is declared differently (%s): converted once per decision"
+                             % (path, said))
+        for rs in decisions.values():
+            line = list_line(rs[0], source)
+            line["origin"]["prims"] = [r["prim"] for r in rs]
+            if len(decisions) > 1:
+                line["origin"]["conflict"] = conflicts[-1]
+                mirror = line.get("as") or line["input"]
+                stem, ext = os.path.splitext(mirror)
+                line["as"] = "%s.%s%s" % (stem, _decision_tag(rs[0]), ext)
+            lines.append(line)
+    for r in records:
+        if not (r.get("input") or r.get("missing")):
+            lines.append(list_line(r, source, stage_file=root))
+    for error in opened.GetCompositionErrors():
+        lines.append({"input": root, "failure": _tf_message(str(error)),
+                      "origin": {"where": "a layer of the stage"}})
     light_records = lights(opened, **{k: v for k, v in options.items() if k in LIGHT_OPTIONS})
     light_folder = os.path.join(output, "lights")
     for r in light_records:
-        if "values" not in r:
+        if "failure" in r:
+            lines.append({"input": root, "failure": r["failure"].split(">: ", 1)[-1],
+                          "origin": {"where": "<%s>" % r["prim"], "prim": r["prim"]}})
             continue
         os.makedirs(light_folder, exist_ok=True)
         r["file"] = os.path.join(light_folder, _light_file_name(r["prim"]) + ".json")
@@ -415,13 +531,42 @@ def _finish(opened, records, output, manifest, options):
                 f.write("\n")
 
         _write_atomically(r["file"], write)
+    return records, lines, light_records, conflicts
+
+
+def _write_lines(path, lines):
+    with open(path, "w", encoding="utf-8") as f:
+        for line in lines:
+            f.write(json.dumps(line) + "\n")
+
+
+def _finish(opened, records, output, manifest, light_records):
+    """After ingest: what each texture became (from the manifest's records of the stage's
+    lines) and spectral.usda."""
+    _refuse_to_replace(os.path.join(output, "spectral.usda"), _reads(opened, records))
+    outputs = {}  # (prim, input) -> [(output, mode, colour space)]
+    if os.path.isfile(manifest):
+        with open(manifest, encoding="utf-8") as f:
+            for line in f:
+                m = json.loads(line)
+                if m.get("status") not in ("converted", "up_to_date") or "output" not in m:
+                    continue
+                for prim in m.get("origin", {}).get("prims", []):
+                    outputs.setdefault((prim, os.path.abspath(m["input"])), []).append(m)
+    textures_done = {}
+    for r in records:
+        for m in outputs.get((r["prim"], os.path.abspath(r.get("input", ""))), []):
+            r["output"] = os.path.abspath(m["output"])
+            textures_done.setdefault(r["prim"], []).append(
+                {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace")})
     layer = os.path.join(output, "spectral.usda")
-    _override_layer(layer, opened.GetRootLayer().realPath, textures_done, light_records)
+    skipped = _override_layer(layer, opened, textures_done, light_records)
     return {"textures": records,
             "asset_failures": [r for r in records if "failure" in r],
             "lights": light_records,
             "light_failures": [r for r in light_records if "failure" in r],
-            "layer_failures": [str(e).strip() for e in opened.GetCompositionErrors()],
+            "layer_failures": [_tf_message(str(e)) for e in opened.GetCompositionErrors()],
+            "not_in_layer": skipped,
             "layer": layer}
 
 
@@ -429,20 +574,24 @@ def ingest(stage, output, *, force=False, manifest=None, **options):
     """The textures of `stage` (textures()) converted into the folder `output` as
     spectralize.ingest() converts files: each with the colour space and mode the stage decides
     (a data map skipped, a file the stage says nothing of decided by its own tags and the
-    config), incrementally, with ingest's manifest, whose records carry "origin" (the prim,
-    attribute, inputs fed and reasons) and "contradiction" where the file's own tag disagrees
-    with the stage (the stage is followed); textures inside a .usdz are copied out once into
-    output/usdz-contents/; its lights (lights()) as spectra, one JSON file each under
-    output/lights/; and output/spectral.usda, a layer with the stage as its sublayer that only
-    adds attributes in the spectralize: namespace: each converted texture's spectral file
-    (spectralize:file, or spectralize:files for UDIM tiles), its mode and colour space, each
-    light's spectralize:wavelengths, spectralize:values and spectralize:basis (the original
-    files are never written). options: ingest's (config, wavelengths, model, ...); a setting
-    the stage decides for a file (colorspace, mode) is the stage's. Returns ingest's summary
-    with "textures" (the stage's decisions), "asset_failures" (textures whose file is missing:
-    failed in the manifest too), "lights", "light_failures", "layer_failures" (what the stage
-    could not compose: a missing sublayer or reference) and "layer"; a SpectralizeWarning
-    names each light and layer failure. Cost: composing the stage, then ingest's, one
+    config; a file it declares differently in two places converted once per decision, named
+    with the decision), incrementally, with ingest's manifest, whose records carry "origin"
+    (the prim, attribute, inputs fed, reasons, and "prims": every prim that uses it so) and
+    "contradiction" where the file's own tag disagrees with the stage (the stage is followed);
+    textures inside a .usdz are copied out once into output/usdz-contents/; its lights
+    (lights()) as spectra, one JSON file each under output/lights/; and output/spectral.usda,
+    a layer with the stage as its sublayer that only adds attributes in the spectralize:
+    namespace: each converted texture's spectral file (spectralize:file, or spectralize:files
+    for UDIM tiles), its mode and colour space, each light's spectralize:wavelengths,
+    spectralize:values and spectralize:basis (the original files are never written: a layer
+    that would replace one is refused, OSError). What the stage cannot give — a missing asset,
+    a layer it cannot compose, a light that cannot be made — is a failed record of the
+    manifest naming its prim, counted in "failed". options: ingest's (config, wavelengths,
+    model, ...); a setting the stage decides for a file (colorspace, mode) is the stage's.
+    Returns ingest's summary with "textures" (the stage's decisions), "asset_failures",
+    "lights", "light_failures", "layer_failures", "conflicts", "not_in_layer" (textures under
+    an instance, which the layer cannot point at) and "layer"; a SpectralizeWarning names each
+    conflict and each texture not in the layer. Cost: composing the stage, then ingest's, one
     spectrum per light."""
     import warnings
 
@@ -452,49 +601,59 @@ def ingest(stage, output, *, force=False, manifest=None, **options):
     if not opened.GetRootLayer().realPath:
         raise ValueError("ingest(): the stage has no file (an in-memory stage): save it first")
     os.makedirs(output, exist_ok=True)
-    records, lines = _stage_lines(opened, output)
+    records, lines, light_records, conflicts = _stage_lines(opened, output, options)
+    for said in conflicts:
+        warnings.warn("spectralize.usd.ingest(): " + said, spectralize.SpectralizeWarning)
     with tempfile.TemporaryDirectory(prefix="spectralize-usd-") as folder:
         listing = os.path.join(folder, "inputs.jsonl")
         _write_lines(listing, lines)
         summary = spectralize.ingest([], output, inputs_from=listing, force=force,
                                      manifest=manifest, **options)
-    summary.update(_finish(opened, records, output, summary["manifest"], options))
-    for failure in [r["failure"] for r in summary["light_failures"]] + summary["layer_failures"]:
-        warnings.warn("spectralize.usd.ingest(): " + failure, spectralize.SpectralizeWarning)
+    summary.update(_finish(opened, records, output, summary["manifest"], light_records))
+    summary["conflicts"] = conflicts
+    for said in summary["not_in_layer"]:
+        warnings.warn("spectralize.usd.ingest(): " + said, spectralize.SpectralizeWarning)
     return summary
 
 
 def _main(argv):
     """The command line's half that needs OpenUSD (`spectralize ingest STAGE.usd`):
-    "lines STAGE OUTPUT LIST" writes the stage's list; "finish STAGE OUTPUT MANIFEST OPTIONS
-    VERBOSITY" (a JSON object of ingest's options; 0 is -q) writes the lights and spectral.usda
-    and says on stderr what failed (and, unless quiet, what was made). Returns the exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
+    "lines STAGE OUTPUT LIST OPTIONS VERBOSITY" writes the stage's list (and its lights);
+    "finish STAGE OUTPUT MANIFEST OPTIONS VERBOSITY" writes spectral.usda (OPTIONS: a JSON
+    object of ingest's options; VERBOSITY 0 is -q). What fails is said on stderr. Returns the
+    exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
     import sys
     try:
         _pxr()
     except ImportError as e:
         print(str(e), file=sys.stderr)
         return 3
+    command, stage, output, path, options = argv[0], argv[1], argv[2], argv[3], argv[4]
+    quiet = len(argv) > 5 and argv[5] == "0"
+    options = json.loads(options)
     try:
-        command, stage, output = argv[0], argv[1], argv[2]
         opened = _open(stage)
+        records, lines, light_records, conflicts = _stage_lines(opened, output, options)
         if command == "lines":
-            _write_lines(argv[3], _stage_lines(opened, output)[1])
+            _write_lines(path, lines)
+            for said in conflicts:
+                print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
             return 0
-        records, _ = _stage_lines(opened, output)
-        done = _finish(opened, records, output, argv[3], json.loads(argv[4]))
+        done = _finish(opened, records, output, path, light_records)
     except (OSError, ValueError) as e:
         print("spectralize ERROR: " + str(e), file=sys.stderr)
         return 1
-    failures = [r["failure"] for r in done["light_failures"]] + done["layer_failures"]
-    for failure in failures:
-        print("spectralize ERROR: '%s': %s" % (stage, failure), file=sys.stderr)
-    made = sum(1 for r in done["lights"] if "values" in r)
-    if len(argv) > 5 and argv[5] == "0":
-        return 1 if failures else 0
-    print("spectralize ingest: USD stage '%s': %d lights made, %d failed; layer '%s'" % (
-        stage, made, len(done["light_failures"]), done["layer"]), file=sys.stderr)
-    return 1 if failures else 0
+    except Exception as e:  # OpenUSD's own errors (Tf) and anything unforeseen: named, not a trace
+        print("spectralize ERROR: '%s': %s: %s" % (stage, type(e).__name__, _tf_message(str(e))),
+              file=sys.stderr)
+        return 1
+    for said in done["not_in_layer"]:
+        print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
+    if not quiet:
+        made = sum(1 for r in done["lights"] if "values" in r)
+        print("spectralize ingest: USD stage '%s': %d lights made, %d failed; layer '%s'" % (
+            stage, made, len(done["light_failures"]), done["layer"]), file=sys.stderr)
+    return 0
 
 
 # The CIE D-series illuminant at the white of a space's primaries (the interop ID's middle
@@ -592,16 +751,26 @@ def lights(stage, **options):
         exposure = light.GetExposureAttr().Get()
         r["scale"] = float(1.0 if intensity is None else intensity) * 2.0 ** float(
             0.0 if exposure is None else exposure)
-        parts = r["colorspace"].split("_")
-        r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
-        failure = None
+        # The space as the config has it (a name, alias or interop ID): its interop ID's
+        # primaries part names its white.
+        failure, r["basis"] = None, None
+        try:
+            facts = spectralize.colour_space(
+                r["colorspace"], **{k: v for k, v in options.items() if k == "config"})
+            parts = (facts["interop_id"] or "").split("_")
+            r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
+        except ValueError as e:
+            why = str(e).split(". Valid names")[0].split("colorspace: ", 1)[-1]
+            failure = "%s (%s)" % (why, r["colorspace_reason"])
         kelvin = None
         if light.GetEnableColorTemperatureAttr().Get():
             authored = light.GetColorTemperatureAttr().Get()
             kelvin = float(6500.0 if authored is None else authored)
             r["color_temperature"] = kelvin
         low, high = COLOR_TEMPERATURE_RANGE
-        if kelvin is not None and not low <= kelvin <= high:
+        if failure:
+            pass
+        elif kelvin is not None and not low <= kelvin <= high:
             failure = "inputs:colorTemperature %g K is outside UsdLux's valid range, %g..%g K" % (
                 kelvin, low, high)
         elif min(r["color"]) < 0 or r["scale"] < 0:

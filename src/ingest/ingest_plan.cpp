@@ -92,6 +92,8 @@ struct Found {
   std::map<std::string, std::string> overrides;
   std::string failure;  // known before it runs (a pattern that matches nothing)
   std::string origin;   // a list line's "origin" object, as JSON text ("" : none)
+  bool listed = false;  // from a list line: its settings are the file's, over a walk's finding
+  fs::path mirror;      // a list line's "as": the path the output mirrors ("" : the input's)
 };
 
 // Why a path met by the walk or a pattern is not an input, or "" when it is one (a regular
@@ -183,7 +185,7 @@ class Walker {
         continue;
       }
       if (!folder) {
-        found_.push_back({p.string(), rel, {}, {}, {}});
+        found_.push_back({p.string(), rel, {}, {}, {}, false, {}});
         continue;
       }
       const auto id = identity(p);
@@ -288,6 +290,8 @@ void expand(const std::string& pattern, std::vector<Found>& found, std::vector<L
                      fixed.empty() ? p.parent_path() : p.parent_path().lexically_relative(fixed),
                      {},
                      {},
+                     {},
+                     false,
                      {}});
   }
   globfree(&g);
@@ -296,6 +300,8 @@ void expand(const std::string& pattern, std::vector<Found>& found, std::vector<L
                      fs::path(),
                      {},
                      quoted_path(pattern) + ": the pattern matches no image file",
+                     {},
+                     false,
                      {}});
 }
 
@@ -344,10 +350,24 @@ void read_list(const std::string& file, std::vector<Found>& out) {
           item.origin = origin_of(j, where);
           continue;
         }
+        if (it.key() == "as") {  // the relative path the output mirrors instead
+          const fs::path as = it->is_string() ? fs::path(it->get<std::string>()) : fs::path();
+          if (as.empty() || as.is_absolute() || !as.has_filename() ||
+              as.lexically_normal().string().rfind("..", 0) == 0)
+            throw Error(where + "\"as\" must be a relative file path inside the destination");
+          item.mirror = as.lexically_normal();
+          continue;
+        }
+        if (it.key() == "failure") {  // what is known to fail (a USD prim with no file)
+          if (!it->is_string() || it->get<std::string>().empty())
+            throw Error(where + "\"failure\" must be a reason");
+          item.failure = it->get<std::string>();
+          continue;
+        }
         const SettingSpec* spec = find_setting(it.key());
         if (!spec || !spec->recipe || !spec->applies(kIngest))
           throw Error(where + "unknown key " + quote(it.key()) +
-                      " (source, origin, or a single-file setting: colorspace, mode, "
+                      " (source, as, origin, failure, or a single-file setting: colorspace, mode, "
                       "wavelengths, ...)");
         item.overrides[it.key()] = it->is_string() ? it->get<std::string>() : it->dump();
       }
@@ -356,6 +376,8 @@ void read_list(const std::string& file, std::vector<Found>& out) {
     item.input = (p.is_relative() ? base / p : p).lexically_normal().string();
     item.relative_dir = p.is_relative() ? p.parent_path().lexically_normal() : fs::path();
     if (item.relative_dir.string().rfind("..", 0) == 0) item.relative_dir.clear();
+    if (!item.mirror.empty()) item.relative_dir = item.mirror.parent_path();
+    item.listed = true;
     out.push_back(std::move(item));
   }
   if (f.bad()) throw FileError(quoted_path(file) + ": cannot be read to the end");
@@ -363,7 +385,7 @@ void read_list(const std::string& file, std::vector<Found>& out) {
 
 // The output's path relative to the destination, from the name pattern.
 std::string output_name(const std::string& pattern, const Found& f) {
-  const fs::path in(f.input);
+  const fs::path in(f.mirror.empty() ? fs::path(f.input) : f.mirror);
   std::string out = pattern;
   auto replace = [&](const std::string& key, const std::string& value) {
     for (std::size_t at; (at = out.find(key)) != std::string::npos;)
@@ -426,7 +448,8 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
                     ": its outputs would be ingested again; choose another");
       walker.walk(p);
     } else if (fs::exists(fs::symlink_status(p, ec))) {
-      found.push_back({src, fs::path(), {}, {}, {}});  // a file given by name: checked when run
+      found.push_back(
+          {src, fs::path(), {}, {}, {}, false, {}});  // a file given by name: checked when run
     } else if (src.find_first_of("*?[") != std::string::npos) {
       if (pattern_reaches(src, dest))
         throw Error("-o " + quoted_path(dest) + " is where the pattern " + quoted_path(src) +
@@ -434,7 +457,7 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
       expand(src, found, plan.left_out);
     } else {
       // A missing file is that file's failure (recorded when run); the others carry on.
-      found.push_back({src, fs::path(), {}, {}, {}});
+      found.push_back({src, fs::path(), {}, {}, {}, false, {}});
     }
   }
   if (!request.inputs_from.empty()) read_list(request.inputs_from, found);
@@ -442,12 +465,26 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
   if (found.empty() && plan.left_out.empty()) throw Error("no input files found");
 
   // Each file once, whatever its spellings ("lib lib", "lib ./lib/", a file given twice, a
-  // link to it), unless a list gives it other settings.
+  // link to it), unless a list gives it other settings; a file a list line gives is taken
+  // with that line's settings, not as a walk or pattern found it.
   {
+    std::map<Identity, std::string> listed;
+    for (const Found& f : found)
+      if (f.listed && f.failure.empty())
+        if (const auto id = identity(f.input)) listed.emplace(*id, f.input);
     std::map<std::pair<Identity, std::string>, std::string> first;
     std::vector<Found> unique;
     for (Found& f : found) {
       const auto id = f.failure.empty() ? identity(f.input) : std::nullopt;
+      if (id && !f.listed) {
+        if (const auto it = listed.find(*id); it != listed.end()) {
+          plan.left_out.push_back({f.input, "duplicate",
+                                   "the same file as " + quoted_path(it->second) +
+                                       ", which a list line gives (taken with its settings)",
+                                   false});
+          continue;
+        }
+      }
       if (id) {
         std::string settings;
         for (const auto& [k, v] : f.overrides) settings += k + "=" + v + "\n";
@@ -481,15 +518,17 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
       if (!resolved.empty()) files.read(resolved, "a file of the OCIO config");
   }
 
-  // Name the outputs.
+  // Name the outputs; a file known to fail writes nothing and names none.
   std::map<std::string, std::vector<IngestItem>> by_output;
+  std::vector<IngestItem> known_failures;
   for (const Found& f : found) {
     IngestItem item;
     item.input = f.input;
     item.failure = f.failure;
     item.origin = f.origin;
     item.settings = request.settings;
-    item.source_relative = (f.relative_dir / fs::path(f.input).filename()).string();
+    item.source_relative =
+        (f.relative_dir / (f.mirror.empty() ? fs::path(f.input) : f.mirror).filename()).string();
     for (const auto& [key, value] : f.overrides)
       apply_setting(item.settings, *find_setting(key), value, "key '" + key + "' of " + f.input);
     item.settings.stated_for_file = f.overrides.count("colorspace") + f.overrides.count("mode") > 0;
@@ -509,6 +548,11 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
     item.output = (fs::path(dest) / item.relative).string();
     if (item.settings.ingest.copy_data)
       item.copy = (fs::path(item.output).parent_path() / fs::path(f.input).filename()).string();
+    if (!f.failure.empty()) {
+      item.copy.clear();
+      known_failures.push_back(std::move(item));
+      continue;
+    }
     by_output[item.relative].push_back(std::move(item));
   }
   // Same-stem siblings (a.png, a.tif, a.tx): one asset when derived, else each its own name
@@ -545,6 +589,7 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
     }
     for (auto& i : items) all.push_back(std::move(i));
   }
+  for (auto& i : known_failures) all.push_back(std::move(i));
   // Every file the batch writes, against every file it reads and each other, in one order for
   // every shard: outputs first, then the copies of data files (an output wins over a copy),
   // then the manifest (which refuses the batch). A derived input writes nothing: its source's

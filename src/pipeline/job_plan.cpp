@@ -51,8 +51,10 @@ std::shared_ptr<const ColourSpaces> load_config(const Settings& s, const OptionN
 void resolve_colour_spaces(JobPlan& plan) {
   Settings& s = plan.settings;
   const ColourSpaces& spaces = *plan.spaces;
+  // Named by who gave it: the option, or a list line's origin (a USD stage's declaration).
   plan.colorspace =
-      with_context(plan.names("colorspace"), [&] { return spaces.named(s.colorspace); });
+      with_context(s.colorspace_given_by.empty() ? plan.names("colorspace") : s.colorspace_given_by,
+                   [&] { return spaces.named(s.colorspace); });
   plan.preview_colorspace = with_context(plan.names("preview_colorspace"),
                                          [&] { return spaces.named(s.preview_colorspace); });
   if (plan.colorspace) s.colorspace = plan.colorspace.name();

@@ -120,7 +120,8 @@ int run_ingest_command(const Options& opt) {
     throw UsageError{
         "ingest: a USD stage is ingested by one process (its layer names every "
         "texture's output); give it without --shard or a job array"};
-  // The stage's textures, as list lines (tool/usd_stage.h); its lights after the batch.
+  // The stage's textures (and what it cannot give: failure lines), as list lines
+  // (tool/usd_stage.h), its lights written; its layer after the batch.
   std::optional<TemporaryList> stage_list;
   bool stage_ok = true;
   if (!stage.empty()) {
@@ -129,7 +130,14 @@ int run_ingest_command(const Options& opt) {
     stage_list.emplace();
     std::error_code ec;
     std::filesystem::create_directories(opt.output, ec);
-    const int status = run_usd_helper({"lines", stage, opt.output, stage_list->path});
+    int status = 0;
+    try {
+      status = run_usd_helper({"lines", stage, opt.output, stage_list->path,
+                               light_options(job.settings), std::to_string(opt.verbosity)});
+    } catch (const FileError& e) {  // no Python to start: the stage fails, the rest goes on
+      fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), e.what());
+      status = 1;
+    }
     if (status != 0) {
       if (status != 1)  // 1: the helper said why
         fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200),

@@ -211,6 +211,45 @@ TEST(IngestPlan, AListLineMayNameItsSourceFolderAndItsOrigin) {
   }
 }
 
+TEST(IngestPlan, AListLineMayNameWhatItsOutputMirrorsOrBeAKnownFailure) {
+  TempDir t;
+  const fs::path lib = t.dir / "lib";
+  write_png(lib / "tex/a.png");
+  write_png(lib / "tex/b.png");
+  // The same file twice, with two decisions, each under its own name; a known failure; and
+  // the folder walked too: the listed files are taken with their lines, the walk's left out.
+  std::ofstream(lib / "list.txt")
+      << R"({"input": "tex/a.png", "mode": "reflectance", "as": "tex/a.reflectance.png"})"
+      << "\n"
+      << R"({"input": "tex/a.png", "mode": "emission", "as": "tex/a.emission.png"})"
+      << "\n"
+      << R"({"input": "stage.usda", "failure": "a light with a negative colour"})"
+      << "\n";
+  IngestRequest r = request_for({lib.string()}, (t.dir / "out").string());
+  r.inputs_from = (lib / "list.txt").string();
+  const IngestPlan plan = plan_ingest(r);
+  std::map<std::string, std::string> by_output;
+  for (const IngestItem& i : plan.items)
+    by_output[i.relative] = i.failure.empty() ? i.input : "failed: " + i.failure;
+  EXPECT_EQ(by_output["tex/a.reflectance.exr"], (lib / "tex/a.png").string());
+  EXPECT_EQ(by_output["tex/a.emission.exr"], (lib / "tex/a.png").string());
+  EXPECT_EQ(by_output["tex/b.exr"], (lib / "tex/b.png").string());  // walked: its own
+  EXPECT_EQ(by_output["stage.exr"], "failed: a light with a negative colour");
+  EXPECT_EQ(by_output.size(), 4u);
+  std::size_t duplicates = 0;
+  for (const LeftOut& l : plan.left_out)
+    if (l.kind == "duplicate" && l.reason.find("a list line gives") != std::string::npos)
+      ++duplicates;
+  EXPECT_EQ(duplicates, 1u);  // tex/a.png, found by the walk
+  for (const char* bad :
+       {R"({"input": "a.png", "as": "../x.png"})", R"({"input": "a.png", "as": "/abs.png"})",
+        R"({"input": "a.png", "failure": ""})"}) {
+    std::ofstream(lib / "bad.txt") << bad << "\n";
+    r.inputs_from = (lib / "bad.txt").string();
+    test::expect_error_mentioning([&] { plan_ingest(r); }, {"bad.txt", "line 1"}, bad);
+  }
+}
+
 // --- Shards ---
 
 TEST(IngestPlan, ShardsAreDisjointPartsThatCoverTheBatchStableAsFilesComeAndGo) {

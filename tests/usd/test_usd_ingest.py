@@ -183,15 +183,19 @@ def test_what_cannot_be_done_is_named_and_the_rest_converted(usd, shop, tmp_path
     UsdLux.DiskLight.Define(stage, "/World/Neg").CreateColorAttr(Gf.Vec3f(-1, 0, 0))
     stage.Save()
     out = tmp_path / "out"
-    with pytest.warns(Warning) as said:
-        summary = usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
-    assert summary["converted"] == 3 and summary["failed"] == 1
-    [lost] = summary["failures"]
-    assert lost["origin"]["where"] == "</World/Mat/Lost>.inputs:file"
+    summary = usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+    # Each is a failed record of the manifest, naming where: the rest is converted.
+    assert summary["converted"] == 3 and summary["failed"] == 3
+    failed = {r["origin"]["where"]: r for r in summary["failures"]}
+    assert set(failed) == {"</World/Mat/Lost>.inputs:file", "</World/Neg>", "a layer of the stage"}
+    assert "negative" in failed["</World/Neg>"]["message"]
+    assert "gone.usda" in failed["a layer of the stage"]["message"]
     assert [r["prim"] for r in summary["light_failures"]] == ["/World/Neg"]
     assert len(summary["layer_failures"]) == 1 and "gone.usda" in summary["layer_failures"][0]
-    text = " ".join(str(w.message) for w in said)
-    assert "</World/Neg>" in text and "gone.usda" in text
+    m = manifest(out)
+    assert m["shop.usda"]["status"] == "failed"  # the stage's own failures: its records
+    assert sum(1 for line in (out / "spectralize-ingest.jsonl").read_text().splitlines()
+               if '"failed"' in line and '"status"' in line) == 3
 
 
 # --- The command line ---
@@ -219,8 +223,8 @@ def test_the_command_line_ingests_a_stage_as_python_does(usd, shop, tmp_path):
             same = subprocess.run(["oiiotool", "--fail", "0", "--warn", "0", "--diff", r["output"],
                                    b[name]["output"]], capture_output=True)
             assert same.returncode == 0, same.stdout
-    assert json.loads((cli / "lights" / "World__Key.json").read_text())["values"] == \
-        pytest.approx(json.loads((py / "lights" / "World__Key.json").read_text())["values"])
+    assert json.loads((cli / "lights" / "World.Key.json").read_text())["values"] == \
+        pytest.approx(json.loads((py / "lights" / "World.Key.json").read_text())["values"])
     layer = Usd.Stage.Open(str(cli / "spectral.usda"))
     assert os.path.isfile(layer.GetPrimAtPath("/World/Mat/Albedo")
                           .GetAttribute("spectralize:file").Get().resolvedPath)
@@ -240,7 +244,7 @@ def test_the_command_line_exits_one_naming_what_failed(shop, tmp_path):
     done = run("ingest", shop / "shop.usda", "-o", out, "--wavelengths", GRID)
     assert done.returncode == 1
     assert "</World/Mat/Lost>.inputs:file" in done.stderr
-    assert "</World/Neg>: a negative colour" in done.stderr
+    assert "a negative colour or intensity: no light has it (</World/Neg>)" in done.stderr
     m = manifest(out)
     assert m["lost.png"]["status"] == "failed" and m["albedo.png"]["status"] == "converted"
     assert (out / "spectral.usda").is_file()  # the rest is done
@@ -267,3 +271,181 @@ def test_the_command_line_refuses_two_stages_and_a_missing_one(shop, tmp_path):
     assert done.returncode == 1 and "nope.usdc" in done.stderr and "no such file" in done.stderr
     done = run("ingest", shop / "shop.usda", "-o", tmp_path / "o", "--shard", "0/2")
     assert done.returncode == 2 and "one process" in done.stderr
+
+
+# --- Stages as studios write them (cases a TD tried) ---
+
+def test_a_file_declared_differently_in_two_places_is_converted_once_per_decision(usd, tmp_path):
+    folder = tmp_path / "s"
+    (folder / "tex").mkdir(parents=True)
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / "shared.png")
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/A", {"diffuseColor": ("/A/T", "tex/shared.png", "sRGB")})
+    surface(stage, "/B", {"emissiveColor": ("/B/T", "tex/shared.png", None)})
+    surface(stage, "/C", {"diffuseColor": ("/C/T", "tex/shared.png", "sRGB")})  # as /A
+    stage.Save()
+    out = tmp_path / "out"
+    with pytest.warns(Warning, match="declared differently"):
+        summary = usd.ingest(folder / "s.usda", out, wavelengths=GRID)
+    assert summary["failed"] == 0 and summary["converted"] == 2
+    layer = Usd.Stage.Open(str(out / "spectral.usda"))
+    files = {p: layer.GetPrimAtPath(p).GetAttribute("spectralize:file").Get().resolvedPath
+             for p in ("/A/T", "/B/T", "/C/T")}
+    assert files["/A/T"] == files["/C/T"] != files["/B/T"]
+    assert files["/A/T"].endswith("shared.reflectance-srgb_rec709_scene.exr")
+    assert layer.GetPrimAtPath("/B/T").GetAttribute("spectralize:mode").Get() == "emission"
+    assert all(os.path.isfile(f) for f in files.values())
+
+
+@needs_exe
+def test_a_stage_given_with_its_own_folder_takes_the_stages_decisions(shop, tmp_path):
+    out = tmp_path / "out"
+    done = run("ingest", shop / "shop.usda", shop, "-o", out, "--wavelengths", GRID)
+    assert done.returncode == 0, done.stderr
+    records = [json.loads(line) for line in (out / "spectralize-ingest.jsonl").read_text().splitlines()]
+    albedo = [r for r in records if r.get("input", "").endswith("albedo.png")]
+    assert [r["status"] for r in albedo] == ["converted"]
+    assert albedo[0]["colorspace_reason"] == "</World/Mat/Albedo>.inputs:sourceColorSpace 'sRGB'"
+    left = [r for r in records if r.get("kind") == "duplicate"]
+    assert len(left) == 4 and all("a list line gives" in r["reason"] for r in left)
+
+
+def test_inputs_are_followed_through_connections(usd, tmp_path):
+    """A file promoted to the material's interface, a texture reaching an emissive input
+    through a NodeGraph output and one reaching a surface colour through a multiply node; a
+    file input with no asset at all fails, naming its prim."""
+    folder = tmp_path / "s"
+    (folder / "tex").mkdir(parents=True)
+    for name in ("iface.png", "graph.png", "mult.png"):
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / name)
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    mat = UsdShade.Material.Define(stage, "/M")
+    s = UsdShade.Shader.Define(stage, "/M/Surface")
+    s.CreateIdAttr("UsdPreviewSurface")
+    iface = mat.CreateInput("albedoFile", Sdf.ValueTypeNames.Asset)
+    iface.Set("tex/iface.png")
+    space = mat.CreateInput("albedoSpace", Sdf.ValueTypeNames.Token)
+    space.Set("sRGB")
+    t = texture(stage, "/M/Iface", "ignored.png")
+    t.GetInput("file").ConnectToSource(iface)
+    t.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).ConnectToSource(space)
+    s.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(t.ConnectableAPI(), "rgb")
+    graph = UsdShade.NodeGraph.Define(stage, "/M/Graph")
+    glow = texture(stage, "/M/Graph/Glow", "tex/graph.png")
+    out_port = graph.CreateOutput("glow", Sdf.ValueTypeNames.Color3f)
+    out_port.ConnectToSource(glow.ConnectableAPI(), "rgb")
+    s.CreateInput("emissiveColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(out_port)
+    mult = UsdShade.Shader.Define(stage, "/M/Mult")
+    mult.CreateIdAttr("ND_multiply_color3")
+    mult.CreateInput("in1", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        texture(stage, "/M/MultTex", "tex/mult.png").ConnectableAPI(), "rgb")
+    mult.CreateOutput("out", Sdf.ValueTypeNames.Color3f)
+    s2 = UsdShade.Shader.Define(stage, "/M/Coat")
+    s2.CreateIdAttr("UsdPreviewSurface")
+    s2.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(mult.ConnectableAPI(), "out")
+    empty = UsdShade.Shader.Define(stage, "/M/Empty")
+    empty.CreateIdAttr("UsdUVTexture")
+    empty.CreateInput("file", Sdf.ValueTypeNames.Asset)
+    stage.Save()
+    got = {os.path.basename(r.get("input", r["prim"])): r for r in usd.textures(folder / "s.usda")}
+    assert (got["iface.png"]["colorspace"], got["iface.png"]["mode"]) == ("srgb_rec709_scene", "reflectance")
+    assert got["iface.png"]["value_from"] == "/M.inputs:albedoFile"
+    assert got["graph.png"]["mode"] == "emission"
+    assert got["mult.png"]["mode"] == "reflectance"
+    assert got["Empty"]["failure"] == "/M/Empty.inputs:file: no asset authored"
+    summary = usd.ingest(folder / "s.usda", tmp_path / "out", wavelengths=GRID)
+    assert summary["converted"] == 3 and summary["failed"] == 1
+    assert summary["failures"][0]["origin"]["where"] == "</M/Empty>.inputs:file"
+
+
+def test_an_asset_attributes_own_colour_space_is_the_stages_word(usd, tmp_path):
+    folder = tmp_path / "s"
+    folder.mkdir()
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "meta.png")
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/M", {"diffuseColor": ("/M/T", "meta.png", None)})
+    stage.GetPrimAtPath("/M/T").GetAttribute("inputs:file").SetColorSpace("lin_ap1_scene")
+    stage.Save()
+    [r] = usd.textures(folder / "s.usda")
+    assert r["colorspace"] == "lin_ap1_scene"
+    assert r["colorspace_reason"] == "colorSpace 'lin_ap1_scene' of </M/T>.inputs:file"
+
+
+def test_files_outside_the_stages_folder_keep_their_own_names_apart(usd, tmp_path):
+    for lib in ("libA", "libB"):
+        (tmp_path / lib).mkdir()
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", tmp_path / lib / "albedo.png")
+    folder = tmp_path / "s"
+    folder.mkdir()
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/A", {"diffuseColor": ("/A/T", "../libA/albedo.png", "sRGB")})
+    surface(stage, "/B", {"diffuseColor": ("/B/T", str(tmp_path / "libB" / "albedo.png"), "sRGB")})
+    stage.Save()
+    out = tmp_path / "out"
+    summary = usd.ingest(folder / "s.usda", out, wavelengths=GRID)
+    assert summary["converted"] == 2 and summary["failed"] == 0
+    for lib in ("libA", "libB"):
+        assert (out / "external" / str(tmp_path / lib / "albedo.exr").lstrip("/")).is_file()
+
+
+def test_an_instanced_texture_is_converted_and_said_not_to_be_in_the_layer(usd, tmp_path):
+    folder = tmp_path / "s"
+    folder.mkdir()
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "a.png")
+    asset = Usd.Stage.CreateNew(str(folder / "thing.usda"))
+    asset.SetDefaultPrim(asset.DefinePrim("/Thing", "Xform"))
+    surface(asset, "/Thing/Mat", {"diffuseColor": ("/Thing/Mat/T", "a.png", "sRGB")})
+    asset.Save()
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    for name in ("/World/Inst0", "/World/Inst1"):
+        prim = stage.DefinePrim(name)
+        prim.GetReferences().AddReference("./thing.usda")
+        prim.SetInstanceable(True)
+    stage.Save()
+    with pytest.warns(Warning, match="under an instance"):
+        summary = usd.ingest(folder / "s.usda", tmp_path / "out", wavelengths=GRID)
+    assert summary["converted"] == 1
+    assert sorted(summary["not_in_layer"]) == [
+        "</World/Inst%d/Mat/T>: under an instance, where a layer's opinions are ignored: its "
+        "spectra are not in the layer" % i for i in (0, 1)]
+
+
+def test_lights_take_any_name_the_config_has_and_keep_their_own_files(usd, tmp_path):
+    stage = Usd.Stage.CreateNew(str(tmp_path / "l.usda"))
+    for path, space in (("/Cfg", "ACEScg"), ("/Ban", "banana")):
+        Usd.ColorSpaceAPI.Apply(stage.DefinePrim(path)).CreateColorSpaceNameAttr(space)
+        UsdLux.SphereLight.Define(stage, path + "/L")
+    UsdLux.SphereLight.Define(stage, "/World/A__B")
+    UsdLux.SphereLight.Define(stage, "/World/A/B")
+    stage.Save()
+    records = {r["prim"]: r for r in usd.lights(tmp_path / "l.usda")}
+    assert records["/Cfg/L"]["basis"] == "D60"  # ACEScg by its name: the ACES white
+    assert "banana" in records["/Ban/L"]["failure"] and "colorSpace:name" in records["/Ban/L"]["failure"]
+    summary = usd.ingest(tmp_path / "l.usda", tmp_path / "out", wavelengths=GRID)
+    names = sorted(os.path.basename(r["file"]) for r in summary["lights"] if "file" in r)
+    assert names == ["Cfg.L.json", "World.A.B.json", "World.A__B.json"]
+
+
+@needs_exe
+def test_a_layer_that_would_replace_a_file_of_the_stage_is_refused(tmp_path):
+    folder = tmp_path / "s"
+    folder.mkdir()
+    shutil.copy(IMAGES / "hdri_sunset_256x128.exr", folder / "sky.exr")
+    stage = Usd.Stage.CreateNew(str(folder / "spectral.usda"))
+    UsdLux.DomeLight.Define(stage, "/Sky").CreateTextureFileAttr("sky.exr")
+    stage.Save()
+    before = (folder / "spectral.usda").read_bytes()
+    done = run("ingest", folder / "spectral.usda", "-o", folder, "--wavelengths", GRID)
+    assert done.returncode == 1
+    assert "is a file of the stage" in done.stderr and "spectral.usda" in done.stderr
+    assert (folder / "spectral.usda").read_bytes() == before
+
+
+@needs_exe
+def test_a_python_that_cannot_start_fails_the_stage_not_the_batch(shop, tmp_path):
+    shutil.copy(IMAGES / "colorchecker_srgb8.png", tmp_path / "other.png")
+    out = tmp_path / "out"
+    done = run("ingest", shop / "shop.usda", tmp_path / "other.png", "-o", out,
+               env={"SPECTRALIZE_PYTHON": str(tmp_path / "no-python")})
+    assert done.returncode == 1 and "cannot start the Python" in done.stderr
+    assert manifest(out)["other.png"]["status"] == "converted"
