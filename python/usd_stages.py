@@ -59,12 +59,27 @@ def _open(stage):
     if not os.path.isfile(path):
         raise OSError("USD stage '%s': no such file" % path)
     try:
-        opened = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+        opened = _quietly(lambda: Usd.Stage.Open(path, Usd.Stage.LoadAll))
     except Exception as e:  # pxr raises Tf errors as RuntimeError and friends
         raise OSError("USD stage '%s': %s" % (path, _tf_message(str(e)))) from e
     if not opened:
         raise OSError("USD stage '%s': OpenUSD cannot open it" % path)
     return opened
+
+
+def _quietly(run):
+    """run() with OpenUSD's own warnings (printed on stderr by its diagnostics) held back:
+    what they say of the stage is reported as its failures (GetCompositionErrors)."""
+    import sys
+    sys.stderr.flush()
+    saved, null = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 2)
+        return run()
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(null)
 
 
 def _tf_message(text):
@@ -181,6 +196,19 @@ def _texture_records(prim, named, attr, decide):
               "attribute": named.GetName()}
     if attr.GetPath() != named.GetPath():
         record["value_from"] = str(attr.GetPath())
+    # A value authored inside a variant of the stage's own layers: the layer's opinion goes
+    # into the same variant, so that it holds only while that variant is selected.
+    for spec in attr.GetPropertyStack():
+        if spec.default is not None:
+            if spec.path.ContainsPrimVariantSelection():
+                stack = {layer.identifier for layer in prim.GetStage().GetLayerStack()}
+                if spec.layer.identifier in stack and attr.GetPath() == named.GetPath():
+                    record["layer_path"] = str(spec.path.GetPrimPath())
+                else:
+                    record["variant_note"] = (
+                        "its file comes from variant %s of a layer the stage references: the "
+                        "layer points at it whatever variant is selected" % spec.path.GetPrimPath())
+            break
     record.update(decide())
     files = _resolved(attr, value) if value else []
     if not files:
@@ -188,7 +216,11 @@ def _texture_records(prim, named, attr, decide):
         failed["failure"] = "%s.%s: %s" % (
             record["prim"], record["attribute"],
             "asset '%s' not found" % record["asset"] if record["asset"] else "no asset authored")
-        if value and value.path:
+        packaged = any(".usdz" in spec.layer.identifier for spec in attr.GetPropertyStack())
+        if value and UDIM in value.path and packaged:
+            failed["failure"] = "%s.%s: UDIM tiles inside a .usdz package are not expanded" % (
+                record["prim"], record["attribute"])
+        elif value and value.path:
             failed["missing"] = _anchored(attr, value.path)
         return [failed]
     out = []
@@ -204,6 +236,14 @@ def _producing(inp):
     (a Material's interface input)."""
     attrs = inp.GetValueProducingAttributes()
     return attrs[0] if attrs else inp.GetAttr()
+
+
+def _feeds_reason(what, feeds, deciding):
+    """"feeds a surface colour: <S>.inputs:diffuseColor (also <S>.inputs:opacity)"."""
+    said = [f for f in feeds if f.rsplit(":", 1)[-1] in deciding]
+    also = [f for f in feeds if f not in said]
+    return "feeds %s: %s%s" % (what, ", ".join(said),
+                               " (also %s)" % ", ".join(also) if also else "")
 
 
 def _uv_texture_decision(shader_prim, fed, file_attr):
@@ -232,9 +272,11 @@ def _uv_texture_decision(shader_prim, fed, file_attr):
     if d["colorspace"] == "data":
         d["mode"], d["mode_reason"] = "data", "its colour space is data (%s)" % d["colorspace_reason"]
     elif names & EMISSIVE_COLOUR_INPUTS:
-        d["mode"], d["mode_reason"] = "emission", "feeds an emissive colour: " + ", ".join(feeds)
+        d["mode"], d["mode_reason"] = "emission", _feeds_reason(
+            "an emissive colour", feeds, EMISSIVE_COLOUR_INPUTS)
     elif names & SURFACE_COLOUR_INPUTS:
-        d["mode"], d["mode_reason"] = "reflectance", "feeds a surface colour: " + ", ".join(feeds)
+        d["mode"], d["mode_reason"] = "reflectance", _feeds_reason(
+            "a surface colour", feeds, SURFACE_COLOUR_INPUTS)
     elif names:
         d["mode"], d["mode_reason"] = "data", "feeds no colour: " + ", ".join(feeds)
     else:
@@ -242,8 +284,14 @@ def _uv_texture_decision(shader_prim, fed, file_attr):
     return d
 
 
-def _dome_decision(light_prim):
-    colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION)
+def _dome_decision(light_prim, file_attr):
+    if file_attr.HasColorSpace():  # the asset attribute's own colorSpace metadata
+        declared = str(file_attr.GetColorSpace())
+        colorspace = "data" if declared in DATA_SPACES else declared
+        reason = "colorSpace '%s' of <%s>.%s" % (declared, light_prim.GetPath(),
+                                                 file_attr.GetName())
+    else:
+        colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION)
     return {"feeds": [], "mode": "emission",
             "mode_reason": "the texture of DomeLight <%s>" % light_prim.GetPath(),
             "colorspace": colorspace, "colorspace_reason": reason}
@@ -271,7 +319,7 @@ def textures(stage):
         elif prim.IsA(UsdLux.DomeLight) or prim.IsA(UsdLux.DomeLight_1):
             attr = prim.GetAttribute("inputs:texture:file")
             if attr and attr.HasAuthoredValue():
-                out += _texture_records(prim, attr, attr, lambda: _dome_decision(prim))
+                out += _texture_records(prim, attr, attr, lambda: _dome_decision(prim, attr))
     return out
 
 
@@ -358,14 +406,7 @@ def _unpack(records, output, reads):
                     r["prim"], r["attribute"], path)
                 continue
             os.makedirs(os.path.dirname(target), exist_ok=True)
-            data = bytes(asset.GetBuffer())
-
-            def write(tmp, data=data):
-                with open(tmp, "wb") as f:
-                    f.write(data)
-                os.utime(tmp, ns=(st.st_atime_ns, st.st_mtime_ns))
-
-            _write_atomically(target, write)
+            _write_atomically(target, bytes(asset.GetBuffer()), (st.st_atime_ns, st.st_mtime_ns))
         r["packaged"], r["input"] = path, target
         r["package_folder"] = os.path.join(output, PACKAGE_FOLDER, stem)
 
@@ -374,19 +415,68 @@ def _unpack(records, output, reads):
 LIGHT_OPTIONS = ("wavelengths", "observer", "model", "filter", "curvature", "config")
 
 
-def _write_atomically(path, write):
-    """Writes `path` through a temporary beside it, renamed when complete."""
+def _write_atomically(path, data, times=None):
+    """Writes the bytes `data` to `path` as the tool writes every file: an exclusive temporary
+    beside it (".NAME.spectralize-XXXXXX.tmp", locked while written, so a rerun's sweep
+    removes what a killed run left and never a live one's), flushed to disk, renamed when
+    complete; `times` (atime, mtime in ns) set before the rename."""
+    import fcntl
+    import secrets
+    import string
     folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".spectralize-", suffix=os.path.splitext(path)[1],
-                               dir=folder)
-    os.close(fd)
+    _sweep(folder)
+    letters = string.ascii_letters + string.digits
+    while True:
+        tmp = os.path.join(folder, ".%s.spectralize-%s.tmp" % (
+            os.path.basename(path), "".join(secrets.choice(letters) for _ in range(6))))
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o644)
+            break
+        except FileExistsError:
+            continue
     try:
-        write(tmp)
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        view = memoryview(data)
+        while view:
+            view = view[os.write(fd, view):]
+        os.fsync(fd)
+        if times:
+            os.utime(fd, ns=times)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.remove(tmp)
         raise
+    finally:
+        os.close(fd)
+
+
+TEMPORARY = re.compile(r"^\..+\.spectralize-[A-Za-z0-9]{6}\.tmp$")
+_swept = set()
+
+
+def _sweep(folder):
+    """Removes, once per folder and process, the temporaries a killed run left there (every
+    writer's, the tool's included: a live one holds its lock and stays)."""
+    import fcntl
+    if folder in _swept or not os.path.isdir(folder):
+        return
+    _swept.add(folder)
+    for name in os.listdir(folder):
+        path = os.path.join(folder, name)
+        if not TEMPORARY.match(name) or os.path.islink(path) or not os.path.isfile(path):
+            continue
+        try:
+            fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            os.unlink(path)
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
 
 
 def _reads(opened, records=()):
@@ -424,13 +514,14 @@ def _override_layer(path, opened, textures_done, light_records):
     skipped = []
 
     def under_instance(prim_path):
-        prim = opened.GetPrimAtPath(prim_path)
+        Sdf, _, _, _ = _pxr()
+        prim = opened.GetPrimAtPath(Sdf.Path(prim_path).StripAllVariantSelections())
         if prim and prim.IsInstanceProxy():
             skipped.append(prim_path)
             return True
         return False
 
-    def write(tmp):
+    def text():
         layer = Sdf.Layer.CreateAnonymous(".usda")
         layer.subLayerPaths.append(os.path.relpath(opened.GetRootLayer().realPath, folder))
         for prim, entries in textures_done.items():
@@ -458,10 +549,9 @@ def _override_layer(path, opened, textures_done, light_records):
                 a.default = [float(v) for v in values]
             a = _custom(spec, "spectralize:basis", "String")
             a.default = r["basis"]
-        if not layer.Export(tmp):
-            raise OSError("'%s': OpenUSD cannot write the layer" % path)
+        return layer.ExportToString()
 
-    _write_atomically(path, write)
+    _write_atomically(path, text().encode("utf-8"))
     return ["<%s>: under an instance, where a layer's opinions are ignored: its spectra are not "
             "in the layer" % p for p in skipped]
 
@@ -524,13 +614,7 @@ def _stage_lines(opened, output, options):
         payload = {k: v for k, v in r.items() if k not in ("wavelengths", "values", "file")}
         payload["wavelengths_nm"] = [float(v) for v in r["wavelengths"]]
         payload["values"] = [float(v) for v in r["values"]]
-
-        def write(tmp, payload=payload):
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(payload, f, indent=1)
-                f.write("\n")
-
-        _write_atomically(r["file"], write)
+        _write_atomically(r["file"], (json.dumps(payload, indent=1) + "\n").encode("utf-8"))
     return records, lines, light_records, conflicts
 
 
@@ -557,10 +641,12 @@ def _finish(opened, records, output, manifest, light_records):
     for r in records:
         for m in outputs.get((r["prim"], os.path.abspath(r.get("input", ""))), []):
             r["output"] = os.path.abspath(m["output"])
-            textures_done.setdefault(r["prim"], []).append(
+            textures_done.setdefault(r.get("layer_path", r["prim"]), []).append(
                 {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace")})
     layer = os.path.join(output, "spectral.usda")
     skipped = _override_layer(layer, opened, textures_done, light_records)
+    skipped += ["<%s>: %s" % (r["prim"], r["variant_note"]) for r in records
+                if r.get("variant_note") and r.get("output")]
     return {"textures": records,
             "asset_failures": [r for r in records if "failure" in r],
             "lights": light_records,

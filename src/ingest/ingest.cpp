@@ -171,7 +171,7 @@ class FileIngest {
  public:
   FileIngest(const IngestItem& item, Batch& batch) : item_(item), batch_(batch) {
     put_path(r_, "input", item.input);
-    put_path(r_, "output", item.output);
+    if (!item.output.empty()) put_path(r_, "output", item.output);
     if (!item.origin.empty()) r_["origin"] = Json::parse(item.origin);
   }
 

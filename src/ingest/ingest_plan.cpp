@@ -548,8 +548,9 @@ IngestPlan plan_ingest(const IngestRequest& request, std::optional<JobPlan> job)
     item.output = (fs::path(dest) / item.relative).string();
     if (item.settings.ingest.copy_data)
       item.copy = (fs::path(item.output).parent_path() / fs::path(f.input).filename()).string();
-    if (!f.failure.empty()) {
+    if (!f.failure.empty()) {  // writes nothing: no output to name in its record
       item.copy.clear();
+      item.output.clear();
       known_failures.push_back(std::move(item));
       continue;
     }

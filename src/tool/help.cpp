@@ -154,9 +154,14 @@ HelpDocument help_document() {
     std::string flags;
     for (const CommandFlag& f : command_flags())
       if (f.commands & c.bit) flags += std::string(flags.empty() ? "" : " ") + f.flag;
+    // Whole flags: "--data" is not "--data-names".
+    auto has = [&](std::string_view flag) {
+      const std::string padded = " " + flags + " ";
+      return padded.find(" " + std::string(flag) + " ") != std::string::npos;
+    };
     for (const SettingSpec& spec : settings_schema())
-      if (spec.applies(c.bit) && flags.find(spec.flag) == std::string::npos)
-        flags.append(" ").append(spec.flag);
+      if (spec.applies(c.bit) && !has(spec.flag)) flags.append(" ").append(spec.flag);
+    if (c.bit == kIngest) flags += " --force --merge";  // ingest's own switches (General)
     by_command.entries.push_back({std::string(c.name), flags + " -v -q", "", ""});
   }
   HelpSection outputs{"Commands and outputs", {}};

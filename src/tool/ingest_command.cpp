@@ -127,9 +127,21 @@ int run_ingest_command(const Options& opt) {
   if (!stage.empty()) {
     if (!std::filesystem::is_regular_file(stage))
       throw FileError("USD stage '" + stage + "': no such file");
-    stage_list.emplace();
     std::error_code ec;
+    const std::filesystem::path stage_folder = std::filesystem::absolute(stage).parent_path();
+    if (std::filesystem::equivalent(stage_folder, opt.output, ec))
+      throw UsageError{"ingest: -o " + quoted_path(opt.output) +
+                       " is the folder of the USD stage " + quoted_path(stage) +
+                       ": its outputs would lie among the stage's files; choose another"};
+    // The folder the helper writes into (lights, .usdz contents), checked as ingest checks it.
+    if (std::filesystem::exists(opt.output, ec) && !std::filesystem::is_directory(opt.output, ec))
+      throw FileError("-o " + quoted_path(opt.output) +
+                      ": is not a folder (ingest writes a tree of files into a folder)");
     std::filesystem::create_directories(opt.output, ec);
+    if (!std::filesystem::is_directory(opt.output))
+      throw FileError("-o " + quoted_path(opt.output) + ": cannot create the folder" +
+                      (ec ? ": " + ec.message() : std::string()));
+    stage_list.emplace();
     int status = 0;
     try {
       status = run_usd_helper({"lines", stage, opt.output, stage_list->path,

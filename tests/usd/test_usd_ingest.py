@@ -428,17 +428,27 @@ def test_lights_take_any_name_the_config_has_and_keep_their_own_files(usd, tmp_p
 
 @needs_exe
 def test_a_layer_that_would_replace_a_file_of_the_stage_is_refused(tmp_path):
-    folder = tmp_path / "s"
+    folder, other = tmp_path / "s", tmp_path / "o"
     folder.mkdir()
+    other.mkdir()
     shutil.copy(IMAGES / "hdri_sunset_256x128.exr", folder / "sky.exr")
+    # A layer of the stage where the output's spectral.usda would go.
+    sub = Usd.Stage.CreateNew(str(other / "spectral.usda"))
+    sub.DefinePrim("/Extra")
+    sub.Save()
     stage = Usd.Stage.CreateNew(str(folder / "spectral.usda"))
     UsdLux.DomeLight.Define(stage, "/Sky").CreateTextureFileAttr("sky.exr")
+    stage.GetRootLayer().subLayerPaths.append("../o/spectral.usda")
     stage.Save()
-    before = (folder / "spectral.usda").read_bytes()
-    done = run("ingest", folder / "spectral.usda", "-o", folder, "--wavelengths", GRID)
+    before = {p: p.read_bytes() for p in (folder / "spectral.usda", other / "spectral.usda")}
+    done = run("ingest", folder / "spectral.usda", "-o", other, "--wavelengths", GRID)
     assert done.returncode == 1
     assert "is a file of the stage" in done.stderr and "spectral.usda" in done.stderr
-    assert (folder / "spectral.usda").read_bytes() == before
+    # The stage's own folder as the output: refused before any work.
+    done = run("ingest", folder / "spectral.usda", "-o", str(folder) + "/.", "--wavelengths", GRID)
+    assert done.returncode == 2 and "is the folder of the USD stage" in done.stderr
+    assert {p: p.read_bytes() for p in before} == before
+    assert sorted(os.listdir(folder)) == ["sky.exr", "spectral.usda"]
 
 
 @needs_exe
@@ -449,3 +459,98 @@ def test_a_python_that_cannot_start_fails_the_stage_not_the_batch(shop, tmp_path
                env={"SPECTRALIZE_PYTHON": str(tmp_path / "no-python")})
     assert done.returncode == 1 and "cannot start the Python" in done.stderr
     assert manifest(out)["other.png"]["status"] == "converted"
+
+
+def test_a_texture_chosen_by_a_variant_is_pointed_at_inside_that_variant(usd, tmp_path):
+    folder = tmp_path / "s"
+    (folder / "tex").mkdir(parents=True)
+    for name in ("red.png", "blue.png"):
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / name)
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/V", {"diffuseColor": ("/V/T", "tex/red.png", "sRGB")})
+    stage.GetPrimAtPath("/V/T").GetAttribute("inputs:file").Clear()
+    look = stage.GetPrimAtPath("/V").GetVariantSets().AddVariantSet("look")
+    for name in ("red", "blue"):
+        look.AddVariant(name)
+        look.SetVariantSelection(name)
+        with look.GetVariantEditContext():
+            stage.GetPrimAtPath("/V/T").GetAttribute("inputs:file").Set(
+                Sdf.AssetPath("tex/%s.png" % name))
+    look.SetVariantSelection("blue")
+    stage.Save()
+    usd.ingest(folder / "s.usda", tmp_path / "out", wavelengths=GRID)
+    layered = Usd.Stage.Open(str(tmp_path / "out" / "spectral.usda"))
+    t = layered.GetPrimAtPath("/V/T")
+    assert t.GetAttribute("spectralize:file").Get().path.endswith("blue.exr")
+    # Another variant selected: the layer's opinion, inside the blue variant, no longer holds.
+    layered.GetPrimAtPath("/V").GetVariantSets().GetVariantSet("look").SetVariantSelection("red")
+    assert layered.GetPrimAtPath("/V/T").GetAttribute("inputs:file").Get().path == "tex/red.png"
+    assert not layered.GetPrimAtPath("/V/T").GetAttribute("spectralize:file").HasValue()
+
+
+def test_a_dome_lights_file_colour_space_metadata_is_the_stages_word(usd, tmp_path):
+    shutil.copy(IMAGES / "hdri_sunset_256x128.exr", tmp_path / "sky.exr")
+    stage = Usd.Stage.CreateNew(str(tmp_path / "s.usda"))
+    dome = UsdLux.DomeLight.Define(stage, "/Dome")
+    Usd.ColorSpaceAPI.Apply(dome.GetPrim()).CreateColorSpaceNameAttr("lin_ap1_scene")
+    dome.CreateTextureFileAttr("sky.exr").SetColorSpace("lin_rec2020_scene")
+    stage.Save()
+    [r] = usd.textures(tmp_path / "s.usda")
+    assert (r["colorspace"], r["mode"]) == ("lin_rec2020_scene", "emission")
+
+
+def test_temporaries_a_killed_run_left_are_removed_and_a_live_ones_kept(usd, shop, tmp_path):
+    import fcntl
+    out = tmp_path / "out"
+    (out / "lights").mkdir(parents=True)
+    stale = [out / ".spectral.usda.spectralize-aB3dE9.tmp",
+             out / "lights" / ".World.Key.json.spectralize-Zz9Yy8.tmp"]
+    for p in stale:
+        p.write_text("left by a killed run")
+    live = out / ".spectral.usda.spectralize-LiVe01.tmp"
+    live.write_text("being written")
+    with open(live) as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        usd.ingest(shop / "shop.usda", out, wavelengths=GRID)
+        assert live.exists()
+    assert not any(p.exists() for p in stale)
+
+
+def test_udim_tiles_in_a_package_are_said_not_to_be_expanded(usd, tmp_path):
+    folder = tmp_path / "a"
+    (folder / "tex").mkdir(parents=True)
+    for tile in ("1001", "1002"):
+        shutil.copy(IMAGES / "grey_ramp8.png", folder / "tex" / ("t.%s.png" % tile))
+    stage = Usd.Stage.CreateNew(str(folder / "a.usda"))
+    surface(stage, "/M", {"diffuseColor": ("/M/T", "tex/t.<UDIM>.png", "sRGB")})
+    stage.Save()
+    assert UsdUtils.CreateNewUsdzPackage(str(folder / "a.usda"), str(tmp_path / "a.usdz"))
+    [r] = usd.textures(tmp_path / "a.usdz")
+    assert r["failure"] == "/M/T.inputs:file: UDIM tiles inside a .usdz package are not expanded"
+
+
+@needs_exe
+def test_an_output_that_is_no_folder_is_named_as_ingest_names_it(shop, tmp_path):
+    (tmp_path / "afile").write_text("x")
+    done = run("ingest", shop / "shop.usda", "-o", tmp_path / "afile")
+    assert done.returncode == 1
+    assert "afile': is not a folder (ingest writes a tree of files into a folder)" in done.stderr
+    assert "Errno" not in done.stderr
+
+
+@needs_exe
+def test_failed_records_of_the_stage_name_no_output_and_reasons_name_what_decides(shop, tmp_path):
+    stage = Usd.Stage.Open(str(shop / "shop.usda"))
+    UsdLux.DiskLight.Define(stage, "/World/Neg").CreateColorAttr(Gf.Vec3f(-1, 0, 0))
+    s = UsdShade.Shader(stage.GetPrimAtPath("/World/Mat/Surface"))
+    s.CreateInput("opacity", Sdf.ValueTypeNames.Float).ConnectToSource(
+        UsdShade.Shader(stage.GetPrimAtPath("/World/Mat/Albedo")).ConnectableAPI(), "r")
+    stage.Save()
+    out = tmp_path / "out"
+    run("ingest", shop / "shop.usda", "-o", out, "--wavelengths", GRID)
+    records = [json.loads(line) for line in (out / "spectralize-ingest.jsonl").read_text().splitlines()]
+    [neg] = [r for r in records if r.get("status") == "failed"]
+    assert "output" not in neg
+    [albedo] = [r for r in records if r.get("input", "").endswith("albedo.png")]
+    assert albedo["mode_reason"] == ("feeds a surface colour: </World/Mat/Surface>.inputs:"
+                                     "diffuseColor (also </World/Mat/Surface>.inputs:opacity)")

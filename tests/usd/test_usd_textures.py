@@ -230,4 +230,4 @@ def test_the_override_layer_composes_over_the_stage_and_names_the_spectra(usd, s
     assert len(values) == len(sky.GetAttribute("spectralize:wavelengths").Get()) == 16
     [light] = [r for r in summary["lights"] if r["prim"] == "/World/Sky"]
     assert json.loads(pathlib.Path(light["file"]).read_text())["values"] == pytest.approx(values)
-    assert not list(out.rglob(".spectralize-*"))  # no temporaries left
+    assert not list(out.rglob("*.spectralize-*.tmp"))  # no temporaries left
