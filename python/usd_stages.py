@@ -165,15 +165,38 @@ def _consumers(stage):
     return {path: deciding(path) for path in by_prim}
 
 
+def _authoring_spec(attr):
+    """The strongest spec of `attr` that gives it a value (a default or time samples)."""
+    for spec in attr.GetPropertyStack():
+        if spec.default is not None or spec.layer.GetNumTimeSamplesForPath(spec.path):
+            return spec
+    return None
+
+
 def _anchored(attr, path):
     """An authored asset path relative to the layer that authors it (OpenUSD's default
     resolver anchors the same way)."""
-    for spec in attr.GetPropertyStack():
-        if spec.default is not None:
-            if not os.path.isabs(path) and spec.layer.realPath:
-                return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
-            break
+    spec = _authoring_spec(attr)
+    if spec and not os.path.isabs(path) and spec.layer.realPath:
+        return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
     return path
+
+
+def _asset_values(attr):
+    """[(times, asset)]: each distinct asset path the attribute takes, with the times it takes
+    it at ("default" for its default), in order of first use; [([], default)] for an attribute
+    that is not animated. Cost: O(time samples)."""
+    samples = attr.GetTimeSamples()
+    if not samples:
+        return [([], attr.Get())]
+    _, Usd, _, _ = _pxr()
+    spec = _authoring_spec(attr)
+    timed = [("default", attr.Get())] if spec and spec.default is not None else []
+    timed += [(t, attr.Get(Usd.TimeCode(t))) for t in samples]
+    out = {}
+    for t, value in timed:
+        out.setdefault(value.path if value else "", (value, []))[1].append(t)
+    return [(times, value) for value, times in out.values()]
 
 
 def _resolved(attr, asset):
@@ -191,31 +214,41 @@ def _resolved(attr, asset):
 def _texture_records(prim, named, attr, decide):
     """The records of the file(s) the attribute `named` of `prim` names, its value given by
     `attr` (itself, or the interface input it is connected to)."""
-    value = attr.Get()
-    record = {"asset": value.path if value else "", "prim": str(prim.GetPath()),
-              "attribute": named.GetName()}
+    common = {"prim": str(prim.GetPath()), "attribute": named.GetName()}
     if attr.GetPath() != named.GetPath():
-        record["value_from"] = str(attr.GetPath())
+        common["value_from"] = str(attr.GetPath())
     # A value authored inside a variant of the stage's own layers: the layer's opinion goes
     # into the same variant, so that it holds only while that variant is selected.
-    for spec in attr.GetPropertyStack():
-        if spec.default is not None:
-            if spec.path.ContainsPrimVariantSelection():
-                stack = {layer.identifier for layer in prim.GetStage().GetLayerStack()}
-                if spec.layer.identifier in stack and attr.GetPath() == named.GetPath():
-                    record["layer_path"] = str(spec.path.GetPrimPath())
-                else:
-                    record["variant_note"] = (
-                        "its file comes from variant %s of a layer the stage references: the "
-                        "layer points at it whatever variant is selected" % spec.path.GetPrimPath())
-            break
-    record.update(decide())
+    spec = _authoring_spec(attr)
+    if spec and spec.path.ContainsPrimVariantSelection():
+        stack = {layer.identifier for layer in prim.GetStage().GetLayerStack()}
+        if spec.layer.identifier in stack and attr.GetPath() == named.GetPath():
+            common["layer_path"] = str(spec.path.GetPrimPath())
+        else:
+            common["variant_note"] = (
+                "its file comes from variant %s of a layer the stage references: the "
+                "layer points at it whatever variant is selected" % spec.path.GetPrimPath())
+    common.update(decide())
+    out = []
+    # An animated file (a texture sequence): each file it names, with the times it is used.
+    for times, value in _asset_values(attr):
+        record = dict(common, asset=value.path if value else "")
+        if times:
+            record["times"] = times
+        out += _asset_records(record, attr, value)
+    return out
+
+
+def _asset_records(record, attr, value):
+    """The records of the files one asset path names (UDIM tiles: several), or its failure."""
     files = _resolved(attr, value) if value else []
     if not files:
         failed = dict(record)
         failed["failure"] = "%s.%s: %s" % (
             record["prim"], record["attribute"],
             "asset '%s' not found" % record["asset"] if record["asset"] else "no asset authored")
+        if record.get("times"):
+            failed["failure"] += " (%s)" % _times_said(record["times"])
         packaged = any(".usdz" in spec.layer.identifier for spec in attr.GetPropertyStack())
         if value and UDIM in value.path and packaged:
             failed["failure"] = "%s.%s: UDIM tiles inside a .usdz package are not expanded" % (
@@ -229,6 +262,15 @@ def _texture_records(prim, named, attr, decide):
         r["input"] = f
         out.append(r)
     return out
+
+
+def _times_said(times):
+    """"at times 1, 2" / "as its default and at time 3": when an animated value is used."""
+    timed = ["%g" % t for t in times if t != "default"]
+    said = "at time%s %s" % ("s" if len(timed) > 1 else "", ", ".join(timed)) if timed else ""
+    if "default" in times:
+        return "as its default" + (" and " + said if said else "")
+    return said
 
 
 def _producing(inp):
@@ -325,10 +367,12 @@ def textures(stage):
 
 def _origin(record):
     """Where a record comes from, as ingest records it in the manifest ("origin")."""
-    o = {"where": "<%s>.%s" % (record["prim"], record["attribute"]), "prim": record["prim"],
+    o = {"where": "<%s>.%s%s" % (record["prim"], record["attribute"],
+                                 " " + _times_said(record["times"]) if record.get("times") else ""),
+         "prim": record["prim"],
          "attribute": record["attribute"], "asset": record["asset"],
          "feeds": record.get("feeds", [])}
-    for key in ("value_from", "packaged"):
+    for key in ("value_from", "packaged", "times"):
         if record.get(key):
             o[key] = record[key]
     # The reasons of what the line gives (ingest records them instead of "--colorspace").
@@ -510,6 +554,7 @@ def _override_layer(path, opened, textures_done, light_records):
     the spectralize: namespace (docs/guide/files.md). Returns the prims it could not point at:
     those under an instance, where OpenUSD ignores a layer's opinions."""
     Sdf, _, _, _ = _pxr()
+    from pxr import Vt
     folder = os.path.dirname(os.path.abspath(path))
     skipped = []
 
@@ -529,13 +574,22 @@ def _override_layer(path, opened, textures_done, light_records):
                 continue
             spec = Sdf.CreatePrimInLayer(layer, prim)
             spec.specifier = Sdf.SpecifierOver
-            outputs = [os.path.relpath(e["output"], folder) for e in entries]
-            if len(outputs) == 1:
-                attr = _custom(spec, "spectralize:file", "Asset")
-                attr.default = Sdf.AssetPath(outputs[0])
-            else:  # UDIM tiles
-                attr = _custom(spec, "spectralize:files", "AssetArray")
-                attr.default = Sdf.AssetPathArray(outputs)
+            # Per asset path the prim's file takes (several for an animated file), its outputs.
+            by_asset = {}
+            for e in entries:
+                by_asset.setdefault(e["asset"], (e["times"], []))[1].append(
+                    os.path.relpath(e["output"], folder))
+            tiles = any(len(outputs) > 1 or UDIM in asset
+                        for asset, (_, outputs) in by_asset.items())
+            attr = _custom(spec, "spectralize:files" if tiles else "spectralize:file",
+                           "AssetArray" if tiles else "Asset")
+            for times, outputs in by_asset.values():
+                value = Sdf.AssetPathArray(outputs) if tiles else Sdf.AssetPath(outputs[0])
+                for t in times or ["default"]:
+                    if t == "default":
+                        attr.default = value
+                    else:  # a texture sequence: the spectral file of each time's file
+                        layer.SetTimeSample(attr.path, t, value)
             for key in ("mode", "colorspace"):
                 a = _custom(spec, "spectralize:" + key, "String")
                 a.default = str(entries[0][key])
@@ -544,11 +598,17 @@ def _override_layer(path, opened, textures_done, light_records):
                 continue
             spec = Sdf.CreatePrimInLayer(layer, r["prim"])
             spec.specifier = Sdf.SpecifierOver
-            for key, values in (("wavelengths", r["wavelengths"]), ("values", r["values"])):
-                a = _custom(spec, "spectralize:" + key, "FloatArray")
-                a.default = [float(v) for v in values]
-            a = _custom(spec, "spectralize:basis", "String")
-            a.default = r["basis"]
+            a = _custom(spec, "spectralize:wavelengths", "FloatArray")
+            a.default = [float(v) for v in r["wavelengths"]]
+            values = _custom(spec, "spectralize:values", "FloatArray")
+            basis = _custom(spec, "spectralize:basis", "String")
+            if "times" not in r:
+                values.default = [float(v) for v in r["values"]]
+                basis.default = r["basis"]
+            else:  # animated: time samples, as the light's inputs have them
+                for t, row, sample in zip(r["times"], r["values"], r["samples"]):
+                    layer.SetTimeSample(values.path, t, Vt.FloatArray([float(v) for v in row]))
+                    layer.SetTimeSample(basis.path, t, sample["basis"])
         return layer.ExportToString()
 
     _write_atomically(path, text().encode("utf-8"))
@@ -613,7 +673,7 @@ def _stage_lines(opened, output, options):
         r["file"] = os.path.join(light_folder, _light_file_name(r["prim"]) + ".json")
         payload = {k: v for k, v in r.items() if k not in ("wavelengths", "values", "file")}
         payload["wavelengths_nm"] = [float(v) for v in r["wavelengths"]]
-        payload["values"] = [float(v) for v in r["values"]]
+        payload["values"] = r["values"].tolist()  # one row per time for an animated light
         _write_atomically(r["file"], (json.dumps(payload, indent=1) + "\n").encode("utf-8"))
     return records, lines, light_records, conflicts
 
@@ -642,7 +702,8 @@ def _finish(opened, records, output, manifest, light_records):
         for m in outputs.get((r["prim"], os.path.abspath(r.get("input", ""))), []):
             r["output"] = os.path.abspath(m["output"])
             textures_done.setdefault(r.get("layer_path", r["prim"]), []).append(
-                {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace")})
+                {"output": r["output"], "mode": m.get("mode"), "colorspace": m.get("colorspace"),
+                 "asset": r["asset"], "times": r.get("times")})
     layer = os.path.join(output, "spectral.usda")
     skipped = _override_layer(layer, opened, textures_done, light_records)
     skipped += ["<%s>: %s" % (r["prim"], r["variant_note"]) for r in records
@@ -800,6 +861,63 @@ def _colour_temperature_spectrum(r, kelvin, options):
     return frame.spectrum(target * frame.np.asarray(D65_WHITE) / t_xyz, XYZ_ROLE, planck)
 
 
+def _light_times(light):
+    """The times at which any input lights() reads is sampled, sorted; [] for a light whose
+    inputs have only defaults."""
+    attrs = (light.GetColorAttr(), light.GetIntensityAttr(), light.GetExposureAttr(),
+             light.GetEnableColorTemperatureAttr(), light.GetColorTemperatureAttr())
+    return sorted({t for a in attrs if a for t in a.GetTimeSamples()})
+
+
+def _light_sample(light, r, time, options):
+    """The light's spectrum at `time` (a Usd.TimeCode), in the space and basis of the record
+    `r`: a dict of "color", "scale", "basis", "basis_reason" (and "color_temperature",
+    "rendering_basis" for a colour temperature), "wavelengths", "values"; or of "failure"."""
+    import numpy as np
+    import spectralize
+
+    s = {}
+    colour = light.GetColorAttr().Get(time)
+    s["color"] = [float(c) for c in (colour if colour is not None else (1.0, 1.0, 1.0))]
+    intensity = light.GetIntensityAttr().Get(time)
+    exposure = light.GetExposureAttr().Get(time)
+    s["scale"] = float(1.0 if intensity is None else intensity) * 2.0 ** float(
+        0.0 if exposure is None else exposure)
+    kelvin = None
+    if light.GetEnableColorTemperatureAttr().Get(time):
+        authored = light.GetColorTemperatureAttr().Get(time)
+        kelvin = float(6500.0 if authored is None else authored)
+        s["color_temperature"] = kelvin
+    low, high = COLOR_TEMPERATURE_RANGE
+    if kelvin is not None and not low <= kelvin <= high:
+        return {"failure": "inputs:colorTemperature %g K is outside UsdLux's valid range, "
+                           "%g..%g K" % (kelvin, low, high)}
+    if min(s["color"]) < 0 or s["scale"] < 0:
+        return {"failure": "a negative colour or intensity: no light has it"}
+    s["basis"] = r["basis"]
+    s["basis_reason"] = ("the D-series illuminant at the space's white" if r["basis"] == "D65"
+                         else "the ACES white is no D-series white: D60, the nearest "
+                              "(colours are white-balanced to it: white light is D60)")
+    rgb = np.asarray(s["color"], dtype=np.float64) * s["scale"]
+    try:
+        if kelvin is None:
+            s["wavelengths"], s["values"] = spectralize.spectra(
+                rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
+                **options)
+        else:
+            s["wavelengths"], s["values"] = _colour_temperature_spectrum(
+                dict(r, **s), kelvin, options)
+            s["rendering_basis"] = r["basis"]
+            s["basis"] = "%.17gK" % kelvin
+            s["basis_reason"] = (
+                "inputs:colorTemperature: a Planckian radiator at %g K, luminance "
+                "normalised; inputs:color multiplies its RGB in the rendering space "
+                "(white-balanced to %s)" % (kelvin, r["basis"]))
+    except ValueError as e:  # a space the config lacks: this light's failure
+        return {"failure": str(e).split(". Valid names")[0]}
+    return s
+
+
 def lights(stage, **options):
     """The emission spectrum of every UsdLux light of `stage` (a path or a Usd.Stage), as UsdLux
     asks: inputs:color (in the UsdColorSpaceAPI space in force at the light, else
@@ -816,8 +934,12 @@ def lights(stage, **options):
     "colorspace_reason", "color", "scale", "basis", "basis_reason", "wavelengths", "values"
     (NumPy arrays); a light that cannot be made has "failure" instead (a negative colour, a
     colour temperature outside UsdLux's 1000..10000 K, a space whose white no D-series
-    illuminant is, a space the config has no space for). An option spectra() refuses raises for the first light. Cost: composing the
-    stage, one spectrum per light."""
+    illuminant is, a space the config has no space for). A light whose inputs are animated
+    (time samples) has one spectrum per time at which any of them is sampled: "times", and
+    "samples" (per time: "time", "color", "scale", "basis", ...) instead of the per-light
+    keys, "values" one row per time; it fails if any time fails, naming the time. An option
+    spectra() refuses raises for the first light. Cost: composing the stage, one spectrum per
+    light and time sample."""
     import numpy as np
     import spectralize
 
@@ -831,12 +953,6 @@ def lights(stage, **options):
         r = {"prim": str(prim.GetPath()), "type": str(prim.GetTypeName())}
         r["colorspace"], r["colorspace_reason"] = _space_in_force(
             prim, "lin_rec709_scene", "the stage declares none: OpenUSD's default, lin_rec709_scene")
-        colour = light.GetColorAttr().Get()
-        r["color"] = [float(c) for c in (colour if colour is not None else (1.0, 1.0, 1.0))]
-        intensity = light.GetIntensityAttr().Get()
-        exposure = light.GetExposureAttr().Get()
-        r["scale"] = float(1.0 if intensity is None else intensity) * 2.0 ** float(
-            0.0 if exposure is None else exposure)
         # The space as the config has it (a name, alias or interop ID): its interop ID's
         # primaries part names its white.
         failure, r["basis"] = None, None
@@ -848,44 +964,34 @@ def lights(stage, **options):
         except ValueError as e:
             why = str(e).split(". Valid names")[0].split("colorspace: ", 1)[-1]
             failure = "%s (%s)" % (why, r["colorspace_reason"])
-        kelvin = None
-        if light.GetEnableColorTemperatureAttr().Get():
-            authored = light.GetColorTemperatureAttr().Get()
-            kelvin = float(6500.0 if authored is None else authored)
-            r["color_temperature"] = kelvin
-        low, high = COLOR_TEMPERATURE_RANGE
-        if failure:
-            pass
-        elif kelvin is not None and not low <= kelvin <= high:
-            failure = "inputs:colorTemperature %g K is outside UsdLux's valid range, %g..%g K" % (
-                kelvin, low, high)
-        elif min(r["color"]) < 0 or r["scale"] < 0:
-            failure = "a negative colour or intensity: no light has it"
-        elif r["basis"] is None:
+        if not failure and r["basis"] is None:
             failure = "colour space '%s': no CIE D-series illuminant is known at its white" % (
                 r["colorspace"])
+        times = _light_times(light)
+        samples = []
+        for t in (times or [None]):
+            if failure:
+                break
+            s = _light_sample(light, r, Usd.TimeCode.Default() if t is None else Usd.TimeCode(t),
+                              options)
+            if "failure" in s:
+                failure = s["failure"] if t is None else "at time %g: %s" % (t, s["failure"])
+            else:
+                s["time"] = t
+                samples.append(s)
         if failure:
             r["failure"] = "<%s>: %s" % (r["prim"], failure)
             out.append(r)
             continue
-        r["basis_reason"] = ("the D-series illuminant at the space's white" if r["basis"] == "D65"
-                             else "the ACES white is no D-series white: D60, the nearest "
-                                  "(colours are white-balanced to it: white light is D60)")
-        rgb = np.asarray(r["color"], dtype=np.float64) * r["scale"]
-        try:
-            if kelvin is None:
-                r["wavelengths"], r["values"] = spectralize.spectra(
-                    rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
-                    **options)
-            else:
-                r["wavelengths"], r["values"] = _colour_temperature_spectrum(r, kelvin, options)
-                r["rendering_basis"] = r["basis"]
-                r["basis"] = "%.17gK" % kelvin
-                r["basis_reason"] = (
-                    "inputs:colorTemperature: a Planckian radiator at %g K, luminance "
-                    "normalised; inputs:color multiplies its RGB in the rendering space "
-                    "(white-balanced to %s)" % (kelvin, r["rendering_basis"]))
-        except ValueError as e:  # a space the config lacks: this light's failure
-            r["failure"] = "<%s>: %s" % (r["prim"], str(e).split(". Valid names")[0])
+        if not times:
+            r.update({k: v for k, v in samples[0].items() if k != "time"})
+        else:  # animated: a spectrum per time
+            r.pop("basis")
+            r["times"] = times
+            r["wavelengths"] = samples[0]["wavelengths"]
+            r["values"] = np.stack([s.pop("values") for s in samples])
+            for s in samples:
+                s.pop("wavelengths")
+            r["samples"] = samples
         out.append(r)
     return out

@@ -554,3 +554,47 @@ def test_failed_records_of_the_stage_name_no_output_and_reasons_name_what_decide
     [albedo] = [r for r in records if r.get("input", "").endswith("albedo.png")]
     assert albedo["mode_reason"] == ("feeds a surface colour: </World/Mat/Surface>.inputs:"
                                      "diffuseColor (also </World/Mat/Surface>.inputs:opacity)")
+
+
+def test_an_animated_file_and_light_are_converted_at_every_time_and_the_layer_follows(usd, tmp_path):
+    # A texture sequence (the file's asset path time-sampled) and a light whose colour is:
+    # every file the sequence names is converted once, and the layer's spectralize:file and
+    # spectralize:values hold, at each time, what the stage names there.
+    folder = tmp_path / "seq"
+    (folder / "tex").mkdir(parents=True)
+    for n in (1, 2, 3):
+        shutil.copy(IMAGES / "colorchecker_srgb8.png", folder / "tex" / ("frame.%d.png" % n))
+    stage = Usd.Stage.CreateNew(str(folder / "seq.usda"))
+    surface(stage, "/Mat", {"diffuseColor": ("/Mat/Tex", "tex/frame.1.png", "sRGB")})
+    file = UsdShade.Shader(stage.GetPrimAtPath("/Mat/Tex")).GetInput("file")
+    for t, n in ((1, 1), (2, 2), (3, 2), (4, 3), (5, 9)):  # frame 9 is missing
+        file.Set(Sdf.AssetPath("tex/frame.%d.png" % n), t)
+    light = UsdLux.SphereLight.Define(stage, "/Blink")
+    light.CreateColorAttr().Set(Gf.Vec3f(1.0, 0.2, 0.2), 0.0)
+    light.GetColorAttr().Set(Gf.Vec3f(0.2, 0.2, 1.0), 10.0)
+    stage.Save()
+    out = tmp_path / "out"
+    summary = usd.ingest(folder / "seq.usda", out, wavelengths=GRID)
+    assert summary["converted"] == 3 and summary["failed"] == 1
+    m = manifest(out)
+    assert m["frame.1.png"]["origin"]["times"] == ["default", 1.0]
+    assert m["frame.2.png"]["origin"]["where"] == "</Mat/Tex>.inputs:file at times 2, 3"
+    assert m["frame.9.png"]["status"] == "failed"
+    assert "</Mat/Tex>.inputs:file at time 5" in m["frame.9.png"]["message"]
+    # The layer, composed: at each time the spectral file of the file the stage names then.
+    composed = Usd.Stage.Open(str(out / "spectral.usda"))
+    tex = composed.GetPrimAtPath("/Mat/Tex")
+    original = tex.GetAttribute("inputs:file")
+    spectral = tex.GetAttribute("spectralize:file")
+    for t in (Usd.TimeCode.Default(), Usd.TimeCode(1), Usd.TimeCode(2.5), Usd.TimeCode(4)):
+        got = pathlib.Path(spectral.Get(t).resolvedPath)
+        assert got.is_file() and got.parent == out / "tex"
+        assert got.stem == pathlib.Path(original.Get(t).path).stem, t
+    # The light: one spectrum per time of its colour, the same in the layer and its file.
+    record = json.loads((out / "lights" / "Blink.json").read_text())
+    assert record["times"] == [0.0, 10.0] and len(record["values"]) == 2
+    assert record["values"][0] != pytest.approx(record["values"][1])
+    values = composed.GetPrimAtPath("/Blink").GetAttribute("spectralize:values")
+    assert values.GetTimeSamples() == [0.0, 10.0]
+    for t, row in zip(record["times"], record["values"]):
+        assert list(values.Get(t)) == pytest.approx(row, rel=1e-6)

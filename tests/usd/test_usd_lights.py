@@ -201,3 +201,55 @@ def test_a_colour_temperature_is_plancks_law_its_cct_and_its_colour_multiplies_i
     want = balance * (m @ (np.array([0.9, 0.5, 0.2]) * rgb_t * scale))
     gelled = xyz(records["/World/Gelled"]["values"], grid)
     assert np.max(np.abs(gelled - want)) / np.max(np.abs(want)) <= 1e-5, (gelled, want)
+
+
+def test_an_animated_light_has_a_spectrum_per_time_each_exact_at_its_time():
+    # Inputs sampled at different times: a spectrum at every time any of them is sampled, each
+    # the colour x intensity x 2^exposure the light has at that time (OpenUSD's value
+    # resolution: a colour interpolated linearly between its samples, held after the last),
+    # never the fallback white of its default time.
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    warm = UsdLux.SphereLight.Define(stage, "/Warm")
+    warm.CreateColorAttr().Set(Gf.Vec3f(0.9, 0.5, 0.2), 1.0)
+    warm.GetColorAttr().Set(Gf.Vec3f(0.2, 0.5, 0.9), 10.0)
+    warm.CreateIntensityAttr(2.0)
+    warm.CreateExposureAttr().Set(0.0, 1.0)
+    warm.GetExposureAttr().Set(1.0, 5.0)
+    tungsten = UsdLux.RectLight.Define(stage, "/Tungsten")
+    tungsten.CreateEnableColorTemperatureAttr(True)
+    tungsten.CreateColorTemperatureAttr().Set(2700.0, 0.0)
+    tungsten.GetColorTemperatureAttr().Set(5000.0, 24.0)
+    records = {r["prim"]: r for r in spectralize.usd.lights(stage)}
+    m = SPACES["lin_rec709_scene"]
+    d65_nm, d65 = table("cie_illuminant_d65_1nm.csv")
+    warm_r = records["/Warm"]
+    grid = warm_r["wavelengths"]
+    w_basis = xyz(np.interp(grid, d65_nm, d65[:, 0]), grid)
+    balance = (w_basis / w_basis[1]) / (m @ np.ones(3))
+    assert warm_r["times"] == [1.0, 5.0, 10.0] and len(warm_r["values"]) == 3
+    at_5 = np.array([0.9, 0.5, 0.2]) + 4 / 9 * (np.array([0.2, 0.5, 0.9]) - [0.9, 0.5, 0.2])
+    for row, (rgb, scale) in zip(warm_r["values"], [((0.9, 0.5, 0.2), 2.0), (at_5, 4.0),
+                                                    ((0.2, 0.5, 0.9), 4.0)]):
+        want = balance * (m @ (np.array(rgb) * scale))
+        got = xyz(row, grid)
+        assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5, (got, want)
+    t_r = records["/Tungsten"]
+    assert t_r["times"] == [0.0, 24.0]
+    assert [s["basis"] for s in t_r["samples"]] == ["2700K", "5000K"]
+    for row, kelvin in zip(t_r["values"], (2700.0, 5000.0)):
+        ratio = row / planck(t_r["wavelengths"], kelvin)
+        assert np.max(np.abs(ratio / ratio.mean() - 1)) <= 1e-6
+        assert abs(cct(xyz(row, t_r["wavelengths"])) - kelvin) <= 1.0
+
+
+def test_an_animated_light_that_goes_wrong_at_one_time_is_named_with_the_time():
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    light = UsdLux.DiskLight.Define(stage, "/Flicker")
+    light.CreateIntensityAttr().Set(1.0, 0.0)
+    light.GetIntensityAttr().Set(-1.0, 12.0)
+    (record,) = spectralize.usd.lights(stage)
+    assert record["failure"] == \
+        "</Flicker>: at time 12: a negative colour or intensity: no light has it"
+    assert "values" not in record
