@@ -920,8 +920,8 @@ def _light_sample(light, r, time, options):
 
 def lights(stage, **options):
     """The emission spectrum of every UsdLux light of `stage` (a path or a Usd.Stage), as UsdLux
-    asks: inputs:color (in the UsdColorSpaceAPI space in force at the light, else
-    lin_rec709_scene) times inputs:intensity times 2^inputs:exposure, with the CIE D-series
+    asks: inputs:color (in its own colorSpace metadata, else the UsdColorSpaceAPI space in
+    force at the light, else lin_rec709_scene) times inputs:intensity times 2^inputs:exposure, with the CIE D-series
     illuminant at the space's white as the emission basis (spectralize.spectra(), mode
     emission): white (1, 1, 1) is that illuminant itself and every colour is reproduced
     exactly, white-balanced to it (D65 for the D65 spaces; D60 for ACES, whose white is no
@@ -951,8 +951,15 @@ def lights(stage, **options):
             continue
         light = UsdLux.LightAPI(prim)
         r = {"prim": str(prim.GetPath()), "type": str(prim.GetTypeName())}
-        r["colorspace"], r["colorspace_reason"] = _space_in_force(
-            prim, "lin_rec709_scene", "the stage declares none: OpenUSD's default, lin_rec709_scene")
+        colour_attr = light.GetColorAttr()
+        if colour_attr and colour_attr.HasColorSpace():  # the colour's own colorSpace metadata
+            r["colorspace"] = str(colour_attr.GetColorSpace())
+            r["colorspace_reason"] = "colorSpace '%s' of <%s>.%s" % (
+                r["colorspace"], prim.GetPath(), colour_attr.GetName())
+        else:
+            r["colorspace"], r["colorspace_reason"] = _space_in_force(
+                prim, "lin_rec709_scene",
+                "the stage declares none: OpenUSD's default, lin_rec709_scene")
         # The space as the config has it (a name, alias or interop ID): its interop ID's
         # primaries part names its white.
         failure, r["basis"] = None, None

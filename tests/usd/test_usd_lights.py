@@ -253,3 +253,22 @@ def test_an_animated_light_that_goes_wrong_at_one_time_is_named_with_the_time():
     assert record["failure"] == \
         "</Flicker>: at time 12: a negative colour or intensity: no light has it"
     assert "values" not in record
+
+
+def test_a_colours_own_colour_space_metadata_is_the_lights_space():
+    # inputs:color's colorSpace metadata says more than the UsdColorSpaceAPI of its prim: the
+    # colour is read in Rec.2020 and reproduced as the test's Rec.2020 matrix says.
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    Usd.ColorSpaceAPI.Apply(stage.DefinePrim("/World")).CreateColorSpaceNameAttr("lin_ap1_scene")
+    light = UsdLux.SphereLight.Define(stage, "/World/Lamp")
+    light.CreateColorAttr(Gf.Vec3f(0.9, 0.5, 0.2)).SetColorSpace("lin_rec2020_scene")
+    (r,) = spectralize.usd.lights(stage)
+    assert r["colorspace"] == "lin_rec2020_scene" and r["basis"] == "D65"
+    assert r["colorspace_reason"] == "colorSpace 'lin_rec2020_scene' of </World/Lamp>.inputs:color"
+    m = SPACES["lin_rec2020_scene"]
+    d65_nm, d65 = table("cie_illuminant_d65_1nm.csv")
+    w_basis = xyz(np.interp(r["wavelengths"], d65_nm, d65[:, 0]), r["wavelengths"])
+    want = (w_basis / w_basis[1]) / (m @ np.ones(3)) * (m @ np.array([0.9, 0.5, 0.2]))
+    got = xyz(r["values"], r["wavelengths"])
+    assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5
