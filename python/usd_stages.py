@@ -659,6 +659,9 @@ def _stage_lines(opened, output, options):
     for r in records:
         if not (r.get("input") or r.get("missing")):
             lines.append(list_line(r, source, stage_file=root))
+    said = _colour_configuration_note(opened, options)
+    if said:
+        conflicts.append(said)
     for error in opened.GetCompositionErrors():
         lines.append({"input": root, "failure": _tf_message(str(error)),
                       "origin": {"where": "a layer of the stage"}})
@@ -676,6 +679,32 @@ def _stage_lines(opened, output, options):
         payload["values"] = r["values"].tolist()  # one row per time for an animated light
         _write_atomically(r["file"], (json.dumps(payload, indent=1) + "\n").encode("utf-8"))
     return records, lines, light_records, conflicts
+
+
+def _colour_configuration_note(opened, options):
+    """What to say when the stage names an OCIO config (its colorConfiguration metadata) other
+    than the one its colour-space names are read in (`config`, else $OCIO, else the built-in
+    default): the names may mean other spaces there. None when they are the same file."""
+    named = opened.GetColorConfiguration()
+    if not named or not named.path:
+        return None
+    stage_config = named.resolvedPath or _anchored_to_layer(opened.GetRootLayer(), named.path)
+    in_use = options.get("config") or os.environ.get("OCIO") or ""
+    try:
+        if in_use and os.path.samefile(stage_config, in_use):
+            return None
+    except OSError:
+        pass
+    return ("the stage names its colour configuration '%s' (colorConfiguration); its colour "
+            "space names are read in %s: give --config '%s' to read them in the stage's" % (
+                named.path, "'%s'" % in_use if in_use else "the built-in default config",
+                stage_config))
+
+
+def _anchored_to_layer(layer, path):
+    if os.path.isabs(path) or not layer.realPath:
+        return path
+    return os.path.normpath(os.path.join(os.path.dirname(layer.realPath), path))
 
 
 def _write_lines(path, lines):
@@ -736,8 +765,9 @@ def ingest(stage, output, *, force=False, manifest=None, **options):
     manifest naming its prim, counted in "failed". options: ingest's (config, wavelengths,
     model, ...); a setting the stage decides for a file (colorspace, mode) is the stage's.
     Returns ingest's summary with "textures" (the stage's decisions), "asset_failures",
-    "lights", "light_failures", "layer_failures", "conflicts", "not_in_layer" (textures under
-    an instance, which the layer cannot point at) and "layer"; a SpectralizeWarning names each
+    "lights", "light_failures", "layer_failures", "conflicts" (files declared differently in
+    two places; a colorConfiguration other than the config in use), "not_in_layer" (textures
+    under an instance, which the layer cannot point at) and "layer"; a SpectralizeWarning names each
     conflict and each texture not in the layer. Cost: composing the stage, then ingest's, one
     spectrum per light."""
     import warnings

@@ -598,3 +598,23 @@ def test_an_animated_file_and_light_are_converted_at_every_time_and_the_layer_fo
     assert values.GetTimeSamples() == [0.0, 10.0]
     for t, row in zip(record["times"], record["values"]):
         assert list(values.Get(t)) == pytest.approx(row, rel=1e-6)
+
+
+def test_a_stage_that_names_another_colour_configuration_is_told(usd, shop, tmp_path, monkeypatch):
+    # colorConfiguration names the OCIO config the stage's colour-space names belong to: read
+    # in another config, a warning names both and the flag that reads them in the stage's.
+    monkeypatch.delenv("OCIO", raising=False)  # the built-in default is the config in use
+    shipped = SOURCE / "ocio_configs" / "spectralize.ocio"
+    shutil.copy(shipped, shop / "studio.ocio")
+    stage = Usd.Stage.Open(str(shop / "shop.usda"))
+    stage.SetColorConfiguration(Sdf.AssetPath("studio.ocio"))
+    stage.Save()
+    with pytest.warns(Warning, match="colorConfiguration"):
+        summary = usd.ingest(shop / "shop.usda", tmp_path / "a", wavelengths=GRID)
+    (said,) = [c for c in summary["conflicts"] if "colorConfiguration" in c]
+    assert "'studio.ocio'" in said and "the built-in default config" in said
+    assert "--config '%s'" % (shop / "studio.ocio") in said
+    # Read in that very config: nothing to say.
+    summary = usd.ingest(shop / "shop.usda", tmp_path / "b", wavelengths=GRID,
+                         config=str(shop / "studio.ocio"))
+    assert not [c for c in summary["conflicts"] if "colorConfiguration" in c]
