@@ -891,6 +891,29 @@ def _colour_temperature_spectrum(r, kelvin, options):
     return frame.spectrum(target * frame.np.asarray(D65_WHITE) / t_xyz, XYZ_ROLE, planck)
 
 
+def _rendering_space(stage):
+    """The stage's rendering colour space, as Hydra finds it: the renderingColorSpace of the
+    RenderSettings prim its renderSettingsPrimPath metadata names (else of its only
+    RenderSettings prim), and why; (None, why not) where several are there and none is named,
+    (None, None) where none declares one. Cost: O(prims)."""
+    from pxr import UsdRender
+    settings = UsdRender.Settings.GetStageRenderSettings(stage)
+    how = "the stage's renderSettingsPrimPath"
+    if not settings:
+        found = [p for p in stage.Traverse() if p.IsA(UsdRender.Settings)]
+        if len(found) > 1:
+            return None, "%d RenderSettings prims and no renderSettingsPrimPath names one" % (
+                len(found))
+        if not found:
+            return None, None
+        settings, how = UsdRender.Settings(found[0]), "the stage's only RenderSettings"
+    attr = settings.GetRenderingColorSpaceAttr()
+    if not attr or not attr.HasAuthoredValue():
+        return None, None
+    name = str(attr.Get())
+    return name, "renderingColorSpace '%s' of <%s> (%s)" % (name, settings.GetPath(), how)
+
+
 def _light_times(light):
     """The times at which any input lights() reads is sampled, sorted; [] for a light whose
     inputs have only defaults."""
@@ -924,10 +947,7 @@ def _light_sample(light, r, time, options):
                            "%g..%g K" % (kelvin, low, high)}
     if min(s["color"]) < 0 or s["scale"] < 0:
         return {"failure": "a negative colour or intensity: no light has it"}
-    s["basis"] = r["basis"]
-    s["basis_reason"] = ("the D-series illuminant at the space's white" if r["basis"] == "D65"
-                         else "the ACES white is no D-series white: D60, the nearest "
-                              "(colours are white-balanced to it: white light is D60)")
+    s["basis"], s["basis_reason"] = r["basis"], r["basis_reason"]
     rgb = np.asarray(s["color"], dtype=np.float64) * s["scale"]
     try:
         if kelvin is None:
@@ -951,11 +971,14 @@ def _light_sample(light, r, time, options):
 def lights(stage, **options):
     """The emission spectrum of every UsdLux light of `stage` (a path or a Usd.Stage), as UsdLux
     asks: inputs:color (in its own colorSpace metadata, else the UsdColorSpaceAPI space in
-    force at the light, else lin_rec709_scene) times inputs:intensity times 2^inputs:exposure, with the CIE D-series
-    illuminant at the space's white as the emission basis (spectralize.spectra(), mode
-    emission): white (1, 1, 1) is that illuminant itself and every colour is reproduced
-    exactly, white-balanced to it (D65 for the D65 spaces; D60 for ACES, whose white is no
-    D-series white: the record says so). A light with inputs:enableColorTemperature is a
+    force at the light, else lin_rec709_scene) times inputs:intensity times
+    2^inputs:exposure, with the CIE D-series illuminant at the rendering space's white as the
+    emission basis (spectralize.spectra(), mode emission): white (1, 1, 1) is that illuminant
+    itself and every colour is reproduced exactly, white-balanced to it (D65 for the D65
+    spaces; D60 for ACES, whose white is no D-series white: the record says so). The rendering
+    space is the renderingColorSpace of the stage's RenderSettings (the one its
+    renderSettingsPrimPath names, else its only one; record "rendering_colorspace"), else the
+    light's own. A light with inputs:enableColorTemperature is a
     Planckian radiator at inputs:colorTemperature (Planck's law, luminance normalised: Y = 1 at
     intensity 1 and exposure 0), its RGB in the rendering space multiplied by inputs:color
     (UsdLux: "the computed result multiplies against the color attribute"): a white color
@@ -975,6 +998,7 @@ def lights(stage, **options):
 
     _, Usd, UsdLux, _ = _pxr()
     stage = _open(stage)
+    rendering, rendering_why = _rendering_space(stage)
     out = []
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
         if not prim.HasAPI(UsdLux.LightAPI):
@@ -990,20 +1014,34 @@ def lights(stage, **options):
             r["colorspace"], r["colorspace_reason"] = _space_in_force(
                 prim, "lin_rec709_scene",
                 "the stage declares none: OpenUSD's default, lin_rec709_scene")
-        # The space as the config has it (a name, alias or interop ID): its interop ID's
-        # primaries part names its white.
+        # The rendering space: the stage's renderingColorSpace, else the light's own. Its white
+        # (the primaries part of its interop ID, as the config has the space by name, alias or
+        # ID) names the D-series illuminant that white light is.
+        if rendering:
+            r["rendering_colorspace"], r["rendering_colorspace_reason"] = rendering, rendering_why
         failure, r["basis"] = None, None
-        try:
-            facts = spectralize.colour_space(
-                r["colorspace"], **{k: v for k, v in options.items() if k == "config"})
-            parts = (facts["interop_id"] or "").split("_")
-            r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
-        except ValueError as e:
-            why = str(e).split(". Valid names")[0].split("colorspace: ", 1)[-1]
-            failure = "%s (%s)" % (why, r["colorspace_reason"])
+        config = {k: v for k, v in options.items() if k == "config"}
+        for space, why_space in ((r["colorspace"], r["colorspace_reason"]),
+                                 (rendering, rendering_why)):
+            if not space or failure:
+                continue
+            try:
+                facts = spectralize.colour_space(space, **config)
+                parts = (facts["interop_id"] or "").split("_")
+                r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
+            except ValueError as e:
+                why = str(e).split(". Valid names")[0].split("colorspace: ", 1)[-1]
+                failure = "%s (%s)" % (why, why_space)
         if not failure and r["basis"] is None:
             failure = "colour space '%s': no CIE D-series illuminant is known at its white" % (
-                r["colorspace"])
+                rendering or r["colorspace"])
+        r["basis_reason"] = "the D-series illuminant at the white of %s" % (
+            "the rendering space, %s" % rendering_why if rendering else
+            "the light's space (the stage declares no renderingColorSpace%s)" % (
+                ": " + rendering_why if rendering_why else ""))
+        if r["basis"] == "D60":
+            r["basis_reason"] += ("; the ACES white is no D-series white: D60, the nearest "
+                                  "(colours are white-balanced to it: white light is D60)")
         times = _light_times(light)
         samples = []
         for t in (times or [None]):

@@ -272,3 +272,38 @@ def test_a_colours_own_colour_space_metadata_is_the_lights_space():
     want = (w_basis / w_basis[1]) / (m @ np.ones(3)) * (m @ np.array([0.9, 0.5, 0.2]))
     got = xyz(r["values"], r["wavelengths"])
     assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5
+
+
+def test_the_rendering_space_of_the_render_settings_gives_white_its_illuminant():
+    # RenderSettings' renderingColorSpace is the rendering space (Hydra's: the prim the
+    # stage's renderSettingsPrimPath names, else the only one): white light is the D-series at
+    # its white, and a colour in the light's own space (Linear Rec.709, undeclared) is
+    # reproduced white-balanced to that illuminant, as the test's matrices say.
+    from pxr import UsdRender
+    import spectralize.usd
+    stage = light_stage()
+    UsdRender.Settings.Define(stage, "/Render/Final").CreateRenderingColorSpaceAttr(
+        "lin_ap1_scene")
+    records = {r["prim"]: r for r in spectralize.usd.lights(stage)}
+    white, warm = records["/World/White"], records["/World/Warm"]
+    assert white["basis"] == "D60" and white["colorspace"] == "lin_rec709_scene"
+    assert white["rendering_colorspace"] == "lin_ap1_scene"
+    assert "</Render/Final>" in white["basis_reason"]
+    grid = white["wavelengths"]
+    ratio = white["values"] / np.interp(grid, NM, d_series(6000, NM))
+    assert np.max(np.abs(ratio / ratio.mean() - 1)) <= 1e-6  # white light is D60 itself
+    m = SPACES["lin_rec709_scene"]
+    w_basis = xyz(np.interp(grid, NM, d_series(6000, NM)), grid)
+    want = (w_basis / w_basis[1]) / (m @ np.ones(3)) * (m @ (np.array([0.9, 0.5, 0.2]) * 10.0))
+    got = xyz(warm["values"], grid)
+    assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5
+    # A second RenderSettings and none named: neither is the rendering space (said so) ...
+    UsdRender.Settings.Define(stage, "/Render/Preview").CreateRenderingColorSpaceAttr(
+        "lin_rec2020_scene")
+    white = {r["prim"]: r for r in spectralize.usd.lights(stage)}["/World/White"]
+    assert white["basis"] == "D65" and "rendering_colorspace" not in white
+    assert "2 RenderSettings prims and no renderSettingsPrimPath names one" in white["basis_reason"]
+    # ... until the stage names one.
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Final")
+    white = {r["prim"]: r for r in spectralize.usd.lights(stage)}["/World/White"]
+    assert white["basis"] == "D60" and "renderSettingsPrimPath" in white["basis_reason"]
