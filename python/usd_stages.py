@@ -1,11 +1,13 @@
 """spectralize.usd: the textures of an OpenUSD stage, decided as a TD would (docs/guide/usd.md).
 
 textures(stage) opens a stage (every layer, reference and payload composed) and returns each
-texture file it uses: the files of UsdUVTexture shaders (UDIM tiles expanded) and of DomeLights,
-with the colour space the stage declares for them and what they feed:
+texture file it uses: the files of UsdUVTexture shaders and MaterialX image nodes (UDIM tiles
+expanded; every file of a texture sequence) and of DomeLights, with the colour space the stage
+declares for them and what they feed:
 
 - colour space: UsdUVTexture's inputs:sourceColorSpace ("raw": data; "sRGB":
-  srgb_rec709_scene), else the UsdColorSpaceAPI space in force at the shader (the nearest
+  srgb_rec709_scene), else the file input's own colorSpace metadata (MaterialX's
+  colorspace), else the UsdColorSpaceAPI space in force at the shader (the nearest
   ancestor, the prim included, that applies the API and authors colorSpace:name; "raw",
   "identity" and "data" are data); where the stage declares nothing, None: the file's own tags
   and the config's file rules decide, as for any file;
@@ -34,9 +36,18 @@ __all__ = ["textures", "list_line", "ingest", "lights"]
 # standard_surface and OpenPBR spellings).
 SURFACE_COLOUR_INPUTS = {
     "diffuseColor", "specularColor", "base_color", "specular_color", "coat_color",
-    "sheen_color", "subsurface_color", "transmission_color", "base_color_map",
+    "sheen_color", "subsurface_color", "transmission_color", "base_color_map", "fuzz_color",
 }
-EMISSIVE_COLOUR_INPUTS = {"emissiveColor", "emission_color"}
+EMISSIVE_COLOUR_INPUTS = {"emissiveColor", "emission_color", "emissive"}
+# Surface (and displacement) shaders: what a texture feeds there decides what it is; any
+# other shader with an input of a name not known passes the texture on (a multiply, a mix).
+SURFACE_SHADER = re.compile(r"UsdPreviewSurface|ND_\w+_surfaceshader(_\w+)?|"
+                            r"ND_displacement_\w+")
+# The shaders that read a texture file (inputs:file): UsdPreviewSurface's, as itself or as
+# MaterialX's node for it, and MaterialX's image nodes (image, tiledimage, hextiledimage,
+# gltf_image, gltf_colorimage, of any output type).
+TEXTURE_SHADER = re.compile(r"(ND_)?UsdUVTexture(_\w+)?|ND_(tiled|hextiled)?image_\w+|"
+                            r"ND_gltf_(color)?image_\w+")
 # UsdColorSpaceAPI names (and sourceColorSpace words) that are not colour.
 DATA_SPACES = {"raw", "identity", "data"}
 UDIM = "<UDIM>"
@@ -153,7 +164,7 @@ def _consumers(stage):
                 todo += edges.get((prim.GetPath(), name), [])
                 continue
             shader_id = UsdShade.Shader(prim).GetShaderId()
-            passes_on = (not is_output and shader_id != "UsdPreviewSurface" and
+            passes_on = (not is_output and not SURFACE_SHADER.fullmatch(shader_id or "") and
                          name not in SURFACE_COLOUR_INPUTS | EMISSIVE_COLOUR_INPUTS | DATA_INPUTS)
             onward = by_prim.get(prim.GetPath(), []) if passes_on else []
             if onward:
@@ -350,7 +361,7 @@ def textures(stage):
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
         if prim.IsA(UsdShade.Shader):
             shader = UsdShade.Shader(prim)
-            if shader.GetShaderId() != "UsdUVTexture":
+            if not TEXTURE_SHADER.fullmatch(shader.GetShaderId() or ""):
                 continue
             file_input = shader.GetInput("file")
             if not file_input:

@@ -231,3 +231,53 @@ def test_the_override_layer_composes_over_the_stage_and_names_the_spectra(usd, s
     [light] = [r for r in summary["lights"] if r["prim"] == "/World/Sky"]
     assert json.loads(pathlib.Path(light["file"]).read_text())["values"] == pytest.approx(values)
     assert not list(out.rglob("*.spectralize-*.tmp"))  # no temporaries left
+
+
+def test_a_materialx_network_is_walked_as_a_preview_surface_is(usd, tmp_path):
+    # MaterialX nodes as USD shaders (what Houdini, Maya and Omniverse write): standard_surface
+    # fed by image nodes. The file input's colorSpace metadata (MaterialX's colorspace) is the
+    # space; base_color is a surface colour, emission_color light; a normal map through
+    # ND_normalmap and a coat normal are data; a tiled image of roughness is data too.
+    copy(tmp_path, "base.png", "glow.png", "nrm.png", "coat.png", "rough.png")
+    stage = Usd.Stage.CreateNew(str(tmp_path / "mtlx.usda"))
+    Usd.ColorSpaceAPI.Apply(stage.DefinePrim("/World")).CreateColorSpaceNameAttr("lin_ap1_scene")
+    material = UsdShade.Material.Define(stage, "/World/Mat")
+    surface = UsdShade.Shader.Define(stage, "/World/Mat/Surface")
+    surface.CreateIdAttr("ND_standard_surface_surfaceshader")
+    material.CreateSurfaceOutput("mtlx").ConnectToSource(
+        surface.CreateOutput("out", Sdf.ValueTypeNames.Token))
+
+    def image(name, file, kind, node="ND_image_color3", space=None):
+        t = UsdShade.Shader.Define(stage, "/World/Mat/" + name)
+        t.CreateIdAttr(node)
+        f = t.CreateInput("file", Sdf.ValueTypeNames.Asset)
+        f.Set(file)
+        if space:
+            f.GetAttr().SetColorSpace(space)
+        t.CreateOutput("out", kind)
+        return t
+
+    c3, v3, fl = Sdf.ValueTypeNames.Color3f, Sdf.ValueTypeNames.Float3, Sdf.ValueTypeNames.Float
+    feed(surface, "base_color", c3, image("Base", "base.png", c3, space="srgb_texture"), "out")
+    feed(surface, "emission_color", c3, image("Glow", "glow.png", c3), "out")
+    normalmap = UsdShade.Shader.Define(stage, "/World/Mat/NormalMap")
+    normalmap.CreateIdAttr("ND_normalmap")
+    feed(normalmap, "in", v3, image("Nrm", "nrm.png", v3, "ND_image_vector3"), "out")
+    normalmap.CreateOutput("out", v3)
+    feed(surface, "normal", v3, normalmap, "out")
+    feed(surface, "coat_normal", v3, image("Coat", "coat.png", v3, "ND_image_vector3"), "out")
+    feed(surface, "specular_roughness", fl,
+         image("Rough", "rough.png", fl, "ND_tiledimage_float"), "out")
+    stage.Save()
+    r = by_file(usd.textures(tmp_path / "mtlx.usda"))
+    got = {name: (r[name].get("colorspace"), r[name].get("mode")) for name in r}
+    assert got == {
+        "base.png": ("srgb_texture", "reflectance"),   # the file input's colorSpace
+        "glow.png": ("lin_ap1_scene", "emission"),     # the root's space, an emissive input
+        "nrm.png": ("lin_ap1_scene", "data"),          # through ND_normalmap to normal
+        "coat.png": ("lin_ap1_scene", "data"),         # a surface shader's non-colour input
+        "rough.png": ("lin_ap1_scene", "data"),
+    }
+    assert r["base.png"]["colorspace_reason"] == "colorSpace 'srgb_texture' of </World/Mat/Base>.inputs:file"
+    assert r["nrm.png"]["feeds"] == ["</World/Mat/Surface>.inputs:normal"]
+    assert r["coat.png"]["mode_reason"] == "feeds no colour: </World/Mat/Surface>.inputs:coat_normal"
