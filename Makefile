@@ -133,6 +133,7 @@ bench: deps build
 	@bash tests/bench/bench_cli.sh $(BUILD_DIR) 5
 	@bash tests/bench/bench_ingest.sh $(BUILD_DIR) 200
 	@bash tests/bench/bench_tiny_files.sh $(BUILD_DIR) 5 $(BENCH_BASELINE)
+	@bash tests/bench/bench_usd_stage.sh $(BUILD_DIR) 5 $(BENCH_BASELINE)
 	@$(PYTHON) tests/bench/bench_python.py $(BUILD_DIR) 5
 	@bash tests/bench/bench_bigmap.sh $(BUILD_DIR)
 	@$(MAKE) --no-print-directory bench-mitsuba

@@ -805,11 +805,13 @@ def ingest(stage, output, *, force=False, manifest=None, **options):
 
 
 def _main(argv):
-    """The command line's half that needs OpenUSD (`spectralize ingest STAGE.usd`):
-    "lines STAGE OUTPUT LIST OPTIONS VERBOSITY" writes the stage's list (and its lights);
-    "finish STAGE OUTPUT MANIFEST OPTIONS VERBOSITY" writes spectral.usda (OPTIONS: a JSON
-    object of ingest's options; VERBOSITY 0 is -q). What fails is said on stderr. Returns the
-    exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
+    """The command line's half that needs OpenUSD (`spectralize ingest STAGE.usd`), one process
+    per stage: "serve STAGE OUTPUT LIST OPTIONS VERBOSITY" writes the stage's list (and its
+    lights), says "ready" on fd 3, then reads its command on fd 4 to its end: "finish\n"
+    followed by the manifest's path writes spectral.usda from it; nothing (the tool ended the
+    batch early) stops. "lines" and "finish" (with the manifest in LIST's place) do each half
+    alone. OPTIONS: a JSON object of ingest's options; VERBOSITY 0 is -q. What fails is said on
+    stderr. Returns the exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
     import sys
     try:
         _pxr()
@@ -822,11 +824,15 @@ def _main(argv):
     try:
         opened = _open(stage)
         records, lines, light_records, conflicts = _stage_lines(opened, output, options)
-        if command == "lines":
+        if command in ("lines", "serve"):
             _write_lines(path, lines)
             for said in conflicts:
                 print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
-            return 0
+            if command == "lines":
+                return 0
+            path = _serve_until_finish()
+            if path is None:
+                return 0
         done = _finish(opened, records, output, path, light_records)
     except (OSError, ValueError) as e:
         print("spectralize ERROR: " + str(e), file=sys.stderr)
@@ -842,6 +848,25 @@ def _main(argv):
         print("spectralize ingest: USD stage '%s': %d lights made, %d failed; layer '%s'" % (
             stage, made, len(done["light_failures"]), done["layer"]), file=sys.stderr)
     return 0
+
+
+def _serve_until_finish():
+    """Says "ready" on fd 3 and waits for the tool's command on fd 4: the manifest's path, or
+    None when the tool sends none (it closed the pipe: an interrupted or refused batch)."""
+    import signal
+    os.write(3, b"ready\n")
+    os.close(3)
+    # An interrupt is the tool's to handle: it ends the batch and closes the pipe.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    chunks = []
+    while True:
+        chunk = os.read(4, 65536)
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(4)
+    command, _, manifest = b"".join(chunks).partition(b"\n")
+    return os.fsdecode(manifest) if command == b"finish" and manifest else None
 
 
 # The CIE D-series illuminant at the white of a space's primaries (the interop ID's middle

@@ -123,6 +123,7 @@ int run_ingest_command(const Options& opt) {
   // The stage's textures (and what it cannot give: failure lines), as list lines
   // (tool/usd_stage.h), its lights written; its layer after the batch.
   std::optional<TemporaryList> stage_list;
+  UsdStageHelper helper;  // one process reads the stage: its list now, its layer at the end
   bool stage_ok = true;
   if (!stage.empty()) {
     if (!std::filesystem::is_regular_file(stage))
@@ -144,8 +145,8 @@ int run_ingest_command(const Options& opt) {
     stage_list.emplace();
     int status = 0;
     try {
-      status = run_usd_helper({"lines", stage, opt.output, stage_list->path,
-                               light_options(job.settings), std::to_string(opt.verbosity)});
+      status = helper.start({stage, opt.output, stage_list->path, light_options(job.settings),
+                             std::to_string(opt.verbosity)});
     } catch (const FileError& e) {  // no Python to start: the stage fails, the rest goes on
       fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), e.what());
       status = 1;
@@ -165,14 +166,12 @@ int run_ingest_command(const Options& opt) {
           opt.manifest.empty()
               ? (std::filesystem::path(opt.output) / "spectralize-ingest.jsonl").string()
               : opt.manifest;
-      const int done = run_usd_helper({"finish", stage, opt.output, manifest,
-                                       light_options(job.settings), std::to_string(opt.verbosity)});
+      const int done = helper.finish(manifest);
       if (done != 0 && done != 1)
         fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), helper_failure(done));
       return done == 0 ? kExitOk : kExitFailure;
     }
   }
-  const std::string batch_settings_json = light_options(job.settings);
   const IngestPlan plan = usage_checked("", [&] { return plan_ingest(request, std::move(job)); });
   const LogFn log = console_log(opt.verbosity);
   if (opt.verbosity >= 2)
@@ -205,8 +204,7 @@ int run_ingest_command(const Options& opt) {
   const IngestSummary s = run_ingest(plan, progress, log);
   if (opt.verbosity > 0) print_summary(s, false);
   if (!stage.empty() && stage_ok) {
-    const int status = run_usd_helper({"finish", stage, opt.output, plan.manifest,
-                                       batch_settings_json, std::to_string(opt.verbosity)});
+    const int status = helper.finish(plan.manifest);
     if (status != 0 && status != 1)
       fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), helper_failure(status));
     stage_ok = status == 0;

@@ -12,14 +12,35 @@ namespace spectralize::tool {
 /// True for a path OpenUSD opens as a stage (.usd, .usda, .usdc, .usdz; any case). Cost: O(1).
 bool is_usd_stage(const std::string& path);
 
-/// Runs spectralize.usd's command-line half (`_main(args)`) in the Python that has OpenUSD
+/// spectralize.usd's command-line half (`_main`) for one stage, in the Python that has OpenUSD
 /// ($SPECTRALIZE_PYTHON, else the project's virtual environment, else python3) with the module
-/// this build made on its path; its stdout and stderr are the caller's. Returns its exit status
-/// (3: no OpenUSD there). Throws FileError when no Python can be started. Cost: a process,
-/// Python's start and OpenUSD's import (about a second).
-int run_usd_helper(const std::vector<std::string>& args);
+/// this build made on its path; its stdout and stderr are the caller's. One process serves the
+/// stage: start() has it write the stage's list, finish() its layer (Python and OpenUSD start
+/// once). A helper not finished is told to stop and waited for when destroyed.
+class UsdStageHelper {
+ public:
+  UsdStageHelper() = default;
+  ~UsdStageHelper();
+  UsdStageHelper(const UsdStageHelper&) = delete;
+  UsdStageHelper& operator=(const UsdStageHelper&) = delete;
 
-/// Which Python run_usd_helper starts, for messages. Cost: O(1).
+  /// Starts `_main(["serve", args...])` and waits until the stage's list is written: 0 when
+  /// it is, else the helper's exit status (1: it said why; 3: no OpenUSD). Throws FileError
+  /// when no Python can be started. Cost: a process, Python's start and OpenUSD's import
+  /// (about a second), composing the stage.
+  int start(const std::vector<std::string>& args);
+
+  /// Has the started helper write the stage's layer from the manifest `manifest`; its exit
+  /// status (0, or 1: it said why). Cost: composing the stage's layer.
+  int finish(const std::string& manifest);
+
+ private:
+  int wait();
+  int pid_ = 0;
+  int commands_ = -1;  // the write end of the helper's command pipe
+};
+
+/// Which Python UsdStageHelper starts, for messages. Cost: O(1).
 std::string usd_python();
 
 }  // namespace spectralize::tool

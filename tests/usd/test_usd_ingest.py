@@ -5,6 +5,7 @@ the stage followed; textures inside a .usdz; a changed layer reconverts only wha
 failures (a missing asset, a layer that cannot be composed, a light that cannot be made, no
 OpenUSD in the Python) named with the exit status ingest's rules give. Stages are written
 here with pxr; expectations are written in the test."""
+import fcntl
 import json
 import os
 import pathlib
@@ -618,3 +619,106 @@ def test_a_stage_that_names_another_colour_configuration_is_told(usd, shop, tmp_
     summary = usd.ingest(shop / "shop.usda", tmp_path / "b", wavelengths=GRID,
                          config=str(shop / "studio.ocio"))
     assert not [c for c in summary["conflicts"] if "colorConfiguration" in c]
+
+
+@needs_exe
+def test_the_command_line_starts_python_once_per_stage(shop, tmp_path):
+    # Python and OpenUSD take about a second to start: the stage's list and its layer are
+    # written by one helper process, not two.
+    log = tmp_path / "starts.log"
+    wrapper = tmp_path / "python"
+    wrapper.write_text('#!/bin/sh\necho started >> "%s"\nexec "%s" "$@"\n' % (log, sys.executable))
+    wrapper.chmod(0o755)
+    out = tmp_path / "out"
+    done = run("ingest", shop / "shop.usda", "-o", out, "--wavelengths", GRID,
+               env={"SPECTRALIZE_PYTHON": str(wrapper)})
+    assert done.returncode == 0, done.stderr
+    assert log.read_text().splitlines() == ["started"]
+    assert (out / "spectral.usda").is_file() and manifest(out)["albedo.png"]["status"] == "converted"
+
+
+def serve(stage, out, listing, command):
+    """spectralize.usd's command-line half as the tool runs it: "ready" read from its fd 3,
+    then `command` (bytes; None: nothing) written to its fd 4 and the pipe closed."""
+    ready_r, ready_w = os.pipe()
+    cmd_r, cmd_w = os.pipe()
+
+    def at_3_and_4():  # (moved above 4 first: either may be 3 or 4 here)
+        high = [fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10) for fd in (ready_w, cmd_r)]
+        for fd, at in zip(high, (3, 4)):
+            os.dup2(fd, at)
+
+    helper = subprocess.Popen(
+        [sys.executable, "-c", "import sys, spectralize.usd as u; sys.exit(u._main(sys.argv[1:]))",
+         "serve", str(stage), str(out), str(listing), json.dumps({"wavelengths": GRID}), "1"],
+        preexec_fn=at_3_and_4, close_fds=False, stderr=subprocess.PIPE)
+    os.close(ready_w)
+    os.close(cmd_r)
+    with os.fdopen(ready_r, "rb") as r:
+        said = r.read()
+    with os.fdopen(cmd_w, "wb") as w:
+        if command is not None:
+            w.write(command)
+    return said, helper.wait(timeout=120), helper.stderr.read().decode()
+
+
+def test_the_helper_writes_the_layer_only_when_told(usd, shop, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    # Told nothing (the tool ended the batch early): the list written, no layer.
+    said, status, err = serve(shop / "shop.usda", out, tmp_path / "list.jsonl", None)
+    assert said == b"ready\n" and status == 0, err
+    assert "albedo.png" in (tmp_path / "list.jsonl").read_text()
+    assert not (out / "spectral.usda").exists()
+    # Told to finish from a manifest: the layer, pointing at what the manifest says.
+    summary = usd.ingest(shop / "shop.usda", tmp_path / "made", wavelengths=GRID)
+    (out / "spectral.usda").unlink(missing_ok=True)
+    said, status, err = serve(shop / "shop.usda", tmp_path / "made", tmp_path / "list.jsonl",
+                              b"finish\n" + os.fsencode(summary["manifest"]))
+    assert said == b"ready\n" and status == 0, err
+    assert "layer" in err and (tmp_path / "made" / "spectral.usda").is_file()
+
+
+@needs_exe
+def test_an_interrupted_command_line_leaves_no_layer_and_no_helper(tmp_path):
+    # The tool is stopped (SIGTERM, to it alone) while the stage's texture is converted: its
+    # helper, waiting to write the layer, ends with it, and neither layer nor output is left.
+    import signal
+    import time
+    folder = tmp_path / "s"
+    folder.mkdir()
+    subprocess.run(["oiiotool", "--pattern", "noise:type=uniform", "2000x2000", "3", "-d", "uint8",
+                    "-o", str(folder / "noise.png")], check=True)
+    stage = Usd.Stage.CreateNew(str(folder / "s.usda"))
+    surface(stage, "/M", {"diffuseColor": ("/M/T", "noise.png", "sRGB")})
+    stage.Save()
+    pid_file, temporaries = tmp_path / "helper.pid", tmp_path / "tmp"
+    temporaries.mkdir()
+    wrapper = tmp_path / "python"
+    wrapper.write_text('#!/bin/sh\necho $$ > "%s"\nexec "%s" "$@"\n' % (pid_file, sys.executable))
+    wrapper.chmod(0o755)
+    out = tmp_path / "out"
+    tool = subprocess.Popen([EXE, "ingest", str(folder / "s.usda"), "-o", str(out), "-q",
+                             "--wavelengths", GRID], stderr=subprocess.PIPE,
+                            env=dict(os.environ, SPECTRALIZE_PYTHON=str(wrapper),
+                                     TMPDIR=str(temporaries)))
+    deadline = time.time() + 60
+    while time.time() < deadline and not any(
+            p.stat().st_size > 0 for p in temporaries.glob("spectralize-usd-*.jsonl")):
+        time.sleep(0.02)  # the helper has written the stage's list: the conversion begins
+    time.sleep(0.3)
+    assert tool.poll() is None, "the conversion ended before it could be interrupted"
+    tool.send_signal(signal.SIGTERM)
+    assert tool.wait(timeout=60) != 0
+    helper = int(pid_file.read_text())
+    for _ in range(500):  # gone, or a zombie no one reaps (the tool's parent is gone)
+        try:
+            if "State:\tZ" in pathlib.Path("/proc/%d/status" % helper).read_text():
+                break
+        except FileNotFoundError:
+            break
+        time.sleep(0.02)
+    else:
+        pytest.fail("the helper outlived the tool")
+    assert not (out / "spectral.usda").exists()
+    assert not list(out.rglob("*.exr")) and not list(out.rglob("*.tmp"))
