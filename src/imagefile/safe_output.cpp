@@ -764,4 +764,22 @@ std::uint64_t remove_stale_temporaries(const std::string& folder) {
   return removed;
 }
 
+ScratchFile::ScratchFile(const std::string& folder, const std::string& prefix,
+                         const std::string& suffix) {
+  install_cleanup_handlers();
+  std::string pattern = (fs::path(folder) / (prefix + "XXXXXX" + suffix)).string();
+  const int fd = ::mkostemps(pattern.data(), static_cast<int>(suffix.size()), O_CLOEXEC);
+  if (fd < 0)
+    throw FileError("cannot make a scratch file in " + quoted_path(folder) + ": " +
+                    errno_text(errno));
+  ::close(fd);
+  path_ = pattern;
+  slot_ = register_temporary(path_);
+}
+
+ScratchFile::~ScratchFile() {
+  ::unlink(path_.c_str());  // before its slot goes: a signal in between finds nothing to remove
+  release_temporary(slot_);
+}
+
 }  // namespace spectralize

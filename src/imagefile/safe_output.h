@@ -206,4 +206,25 @@ bool is_temporary_name(const std::string& name);
 /// no live AtomicOutput holds locked. Returns how many. Cost: one directory listing.
 std::uint64_t remove_stale_temporaries(const std::string& folder);
 
+/// A scratch file of the run, not an output (nothing is ever renamed into place): an empty
+/// file made exclusively in `folder` as <prefix>XXXXXX<suffix>, removed when this goes and
+/// when a signal ends the process (as temporaries are), so an interrupted run leaves none.
+class ScratchFile {
+ public:
+  /// Makes the file; throws FileError naming the folder and the system's reason. Cost: a few
+  /// system calls.
+  ScratchFile(const std::string& folder, const std::string& prefix, const std::string& suffix);
+  /// Removes the file. Cost: one unlink.
+  ~ScratchFile();
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+
+  /// Where it is. Cost: O(1).
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int slot_ = -1;  // the signal handler's registry slot
+};
+
 }  // namespace spectralize

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "imagefile/safe_output.h"
 #include "ingest/ingest.h"
 #include "ingest/shard.h"
 #include "pipeline/job_plan.h"
@@ -39,22 +40,6 @@ void print_summary(const IngestSummary& s, bool merged) {
              s.seconds > 0 ? mpx / s.seconds : 0.0,
              s.seconds > 0 ? static_cast<double>(s.files()) / s.seconds : 0.0, s.manifest);
 }
-
-// A temporary file for the stage's list, removed when done.
-struct TemporaryList {
-  std::string path;
-  TemporaryList() {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "spectralize-usd-XXXXXX.jsonl").string();
-    const int fd = ::mkstemps(pattern.data(), 6);
-    if (fd < 0) throw FileError("cannot create a temporary file in " + pattern);
-    ::close(fd);
-    path = pattern;
-  }
-  ~TemporaryList() { std::remove(path.c_str()); }
-  TemporaryList(const TemporaryList&) = delete;
-  TemporaryList& operator=(const TemporaryList&) = delete;
-};
 
 // A helper that could not run: why, for the stage.
 std::string helper_failure(int status) {
@@ -122,7 +107,7 @@ int run_ingest_command(const Options& opt) {
         "texture's output); give it without --shard or a job array"};
   // The stage's textures (and what it cannot give: failure lines), as list lines
   // (tool/usd_stage.h), its lights written; its layer after the batch.
-  std::optional<TemporaryList> stage_list;
+  std::optional<ScratchFile> stage_list;
   UsdStageHelper helper;  // one process reads the stage: its list now, its layer at the end
   bool stage_ok = true;
   if (!stage.empty()) {
@@ -142,10 +127,11 @@ int run_ingest_command(const Options& opt) {
     if (!std::filesystem::is_directory(opt.output))
       throw FileError("-o " + quoted_path(opt.output) + ": cannot create the folder" +
                       (ec ? ": " + ec.message() : std::string()));
-    stage_list.emplace();
+    stage_list.emplace(std::filesystem::temp_directory_path().string(), "spectralize-usd-",
+                       ".jsonl");
     int status = 0;
     try {
-      status = helper.start({stage, opt.output, stage_list->path, light_options(job.settings),
+      status = helper.start({stage, opt.output, stage_list->path(), light_options(job.settings),
                              std::to_string(opt.verbosity)});
     } catch (const FileError& e) {  // no Python to start: the stage fails, the rest goes on
       fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200), e.what());
@@ -156,8 +142,8 @@ int run_ingest_command(const Options& opt) {
         fmt::print(stderr, "spectralize ERROR: '{}': {}\n", clip(stage, 200),
                    helper_failure(status));
       stage_ok = false;
-    } else if (std::filesystem::file_size(stage_list->path, ec) > 0) {
-      request.made_lists.push_back(stage_list->path);
+    } else if (std::filesystem::file_size(stage_list->path(), ec) > 0) {
+      request.made_lists.push_back(stage_list->path());
     }
     if (request.sources.empty() && request.inputs_from.empty() && request.made_lists.empty()) {
       if (!stage_ok) return kExitFailure;

@@ -641,6 +641,30 @@ TEST(SafeOutput, ASignalRemovesTheTemporariesAndTheProcessDiesOfIt) {
   }
 }
 
+TEST(SafeOutput, AScratchFileIsMadeExclusivelyAndGoesWithItsScopeOrASignal) {
+  TempDir t;
+  {
+    ScratchFile a(t.dir.string(), "list-", ".jsonl");
+    ScratchFile b(t.dir.string(), "list-", ".jsonl");
+    EXPECT_NE(a.path(), b.path());
+    EXPECT_TRUE(std::regex_match(fs::path(a.path()).filename().string(),
+                                 std::regex(R"(list-[A-Za-z0-9]{6}\.jsonl)")))
+        << a.path();
+    EXPECT_EQ(fs::file_size(a.path()), 0u);
+    EXPECT_EQ(names_in(t.dir).size(), 2u);
+  }
+  EXPECT_TRUE(names_in(t.dir).empty());
+  const int status = in_child([&] {
+    ScratchFile c(t.dir.string(), "list-", ".jsonl");
+    write_file(c.path(), "written by another process");
+    ::raise(SIGTERM);
+    ::_exit(3);
+  });
+  ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status;
+  EXPECT_TRUE(names_in(t.dir).empty());
+  EXPECT_THROW(ScratchFile(t.dir.string() + "/no-such-folder", "x", ""), FileError);
+}
+
 TEST(SafeOutput, OnlySigkillLeavesATemporaryAndTheNextSweepRemovesIt) {
   TempDir t;
   const int status = in_child([&] {

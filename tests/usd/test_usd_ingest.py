@@ -722,3 +722,4 @@ def test_an_interrupted_command_line_leaves_no_layer_and_no_helper(tmp_path):
         pytest.fail("the helper outlived the tool")
     assert not (out / "spectral.usda").exists()
     assert not list(out.rglob("*.exr")) and not list(out.rglob("*.tmp"))
+    assert not list(temporaries.iterdir())  # the stage's list went with the tool
