@@ -683,6 +683,8 @@ def _stage_lines(opened, output, options):
             lines.append({"input": root, "failure": r["failure"].split(">: ", 1)[-1],
                           "origin": {"where": "<%s>" % r["prim"], "prim": r["prim"]}})
             continue
+        if "values" not in r:  # a portal: no emission of its own
+            continue
         os.makedirs(light_folder, exist_ok=True)
         r["file"] = os.path.join(light_folder, _light_file_name(r["prim"]) + ".json")
         payload = {k: v for k, v in r.items() if k not in ("wavelengths", "values", "file")}
@@ -845,8 +847,11 @@ def _main(argv):
         print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
     if not quiet:
         made = sum(1 for r in done["lights"] if "values" in r)
-        print("spectralize ingest: USD stage '%s': %d lights made, %d failed; layer '%s'" % (
-            stage, made, len(done["light_failures"]), done["layer"]), file=sys.stderr)
+        portals = sum(1 for r in done["lights"] if "not_made" in r)
+        print("spectralize ingest: USD stage '%s': %d lights made, %d failed%s; layer '%s'" % (
+            stage, made, len(done["light_failures"]),
+            ", %d portal%s (no emission of its own)" % (portals, "s" if portals > 1 else "")
+            if portals else "", done["layer"]), file=sys.stderr)
     return 0
 
 
@@ -1028,7 +1033,8 @@ def lights(stage, **options):
     "samples" (per time: "time", "color", "scale", "basis", ...) instead of the per-light
     keys, "values" one row per time; it fails if any time fails, naming the time. An option
     spectra() refuses raises for the first light. Cost: composing the stage, one spectrum per
-    light and time sample."""
+    light and time sample. A PortalLight, which emits nothing of its own, has "not_made"
+    (why) and no spectrum."""
     import numpy as np
     import spectralize
 
@@ -1041,6 +1047,11 @@ def lights(stage, **options):
             continue
         light = UsdLux.LightAPI(prim)
         r = {"prim": str(prim.GetPath()), "type": str(prim.GetTypeName())}
+        if prim.IsA(UsdLux.PortalLight):  # it guides a dome light's emission, emits none
+            r["not_made"] = ("a PortalLight emits nothing of its own: it guides the DomeLight's "
+                             "light, which its color and intensity tint")
+            out.append(r)
+            continue
         colour_attr = light.GetColorAttr()
         if colour_attr and colour_attr.HasColorSpace():  # the colour's own colorSpace metadata
             r["colorspace"] = str(colour_attr.GetColorSpace())

@@ -307,3 +307,17 @@ def test_the_rendering_space_of_the_render_settings_gives_white_its_illuminant()
     stage.SetMetadata("renderSettingsPrimPath", "/Render/Final")
     white = {r["prim"]: r for r in spectralize.usd.lights(stage)}["/World/White"]
     assert white["basis"] == "D60" and "renderSettingsPrimPath" in white["basis_reason"]
+
+
+def test_a_portal_light_is_given_no_emission_of_its_own():
+    # A PortalLight guides a DomeLight's light through a window; it emits none itself, so it
+    # gets no emission spectrum (nor a failure), and the dome does.
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    UsdLux.DomeLight.Define(stage, "/Sky")
+    UsdLux.PortalLight.Define(stage, "/Sky/Window").CreateColorAttr(Gf.Vec3f(1.0, 0.9, 0.8))
+    records = {r["prim"]: r for r in spectralize.usd.lights(stage)}
+    assert "values" in records["/Sky"]
+    window = records["/Sky/Window"]
+    assert "values" not in window and "failure" not in window
+    assert "PortalLight emits nothing of its own" in window["not_made"]
