@@ -2,8 +2,8 @@
 
 textures(stage) opens a stage (every layer, reference and payload composed) and returns each
 texture file it uses: the files of UsdUVTexture shaders and MaterialX image nodes (UDIM tiles
-expanded; every file of a texture sequence) and of DomeLights, with the colour space the stage
-declares for them and what they feed:
+expanded; every file of a texture sequence) and of lights (a DomeLight's, a RectLight's), with
+the colour space the stage declares for them and what they feed:
 
 - colour space: UsdUVTexture's inputs:sourceColorSpace ("raw": data; "sRGB":
   srgb_rec709_scene), else the file input's own colorSpace metadata (MaterialX's
@@ -11,8 +11,8 @@ declares for them and what they feed:
   ancestor, the prim included, that applies the API and authors colorSpace:name; "raw",
   "identity" and "data" are data); where the stage declares nothing, None: the file's own tags
   and the config's file rules decide, as for any file;
-- light, surface or data: a DomeLight's texture and an emissive colour input
-  (emissiveColor, emission_color) are light; a surface colour input (diffuseColor, base_color,
+- light, surface or data: a light's texture (DomeLight, RectLight) and an emissive colour
+  input (emissiveColor, emission_color) are light; a surface colour input (diffuseColor, base_color,
   specularColor, ...) a surface; any other input a texture feeds (normal, roughness, metallic,
   opacity, displacement, occlusion, ...) makes it data, never spectralized; a texture that feeds
   nothing is left to the file's own decision.
@@ -337,7 +337,7 @@ def _uv_texture_decision(shader_prim, fed, file_attr):
     return d
 
 
-def _dome_decision(light_prim, file_attr):
+def _light_texture_decision(light_prim, file_attr):
     if file_attr.HasColorSpace():  # the asset attribute's own colorSpace metadata
         declared = str(file_attr.GetColorSpace())
         colorspace = "data" if declared in DATA_SPACES else declared
@@ -346,7 +346,8 @@ def _dome_decision(light_prim, file_attr):
     else:
         colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION)
     return {"feeds": [], "mode": "emission",
-            "mode_reason": "the texture of DomeLight <%s>" % light_prim.GetPath(),
+            "mode_reason": "the texture of %s <%s>" % (light_prim.GetTypeName(),
+                                                       light_prim.GetPath()),
             "colorspace": colorspace, "colorspace_reason": reason}
 
 
@@ -369,10 +370,11 @@ def textures(stage):
             attr = _producing(file_input)
             out += _texture_records(prim, file_input.GetAttr(), attr,
                                     lambda: _uv_texture_decision(prim, fed, attr))
-        elif prim.IsA(UsdLux.DomeLight) or prim.IsA(UsdLux.DomeLight_1):
+        elif prim.HasAPI(UsdLux.LightAPI):  # a DomeLight's sky, a RectLight's picture
             attr = prim.GetAttribute("inputs:texture:file")
-            if attr and attr.HasAuthoredValue():
-                out += _texture_records(prim, attr, attr, lambda: _dome_decision(prim, attr))
+            if attr and (attr.HasAuthoredValue() or attr.GetNumTimeSamples()):
+                out += _texture_records(prim, attr, attr,
+                                        lambda: _light_texture_decision(prim, attr))
     return out
 
 

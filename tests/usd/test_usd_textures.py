@@ -281,3 +281,17 @@ def test_a_materialx_network_is_walked_as_a_preview_surface_is(usd, tmp_path):
     assert r["base.png"]["colorspace_reason"] == "colorSpace 'srgb_texture' of </World/Mat/Base>.inputs:file"
     assert r["nrm.png"]["feeds"] == ["</World/Mat/Surface>.inputs:normal"]
     assert r["coat.png"]["mode_reason"] == "feeds no colour: </World/Mat/Surface>.inputs:coat_normal"
+
+
+def test_a_rect_lights_picture_is_light(usd, tmp_path):
+    # A RectLight with a texture (a screen, a softbox's print) emits it: emission, in the space
+    # the stage declares at the light.
+    copy(tmp_path, "screen.png")
+    stage = Usd.Stage.CreateNew(str(tmp_path / "r.usda"))
+    Usd.ColorSpaceAPI.Apply(stage.DefinePrim("/World")).CreateColorSpaceNameAttr("lin_rec709_scene")
+    UsdLux.RectLight.Define(stage, "/World/Screen").CreateTextureFileAttr("screen.png")
+    stage.Save()
+    (r,) = usd.textures(tmp_path / "r.usda")
+    assert (r["colorspace"], r["mode"]) == ("lin_rec709_scene", "emission")
+    assert r["attribute"] == "inputs:texture:file"
+    assert r["mode_reason"] == "the texture of RectLight </World/Screen>"
