@@ -993,7 +993,20 @@ def _light_sample(light, r, time, options):
     s["basis"], s["basis_reason"] = r["basis"], r["basis_reason"]
     rgb = np.asarray(s["color"], dtype=np.float64) * s["scale"]
     try:
-        if kelvin is None:
+        if r.get("textured"):
+            # The texture's spectral file holds its emission (the rendering illuminant and
+            # all); the light's colour, intensity and exposure multiply it: a tint, flat for
+            # white, the colour exact under the equal-energy white (basis "flat").
+            if kelvin is not None:
+                frame = _Frame(r["colorspace"], r["basis"], options)
+                rgb = rgb * frame.rgb(frame.emitted_xyz(D65_WHITE, "%.17gK" % kelvin))
+            s["wavelengths"], s["values"] = _tint_spectrum(rgb, r["colorspace"], options)
+            s["rendering_basis"], s["basis"] = r["basis"], "flat"
+            s["basis_reason"] = (
+                "a light with a texture: a tint its texture's emission is multiplied by (flat "
+                "for white)%s" % (", the colour times the RGB of a Planckian radiator at %g K"
+                                  % kelvin if kelvin is not None else ""))
+        elif kelvin is None:
             s["wavelengths"], s["values"] = spectralize.spectra(
                 rgb, colorspace=r["colorspace"], mode="emission", emission_basis=r["basis"],
                 **options)
@@ -1009,6 +1022,18 @@ def _light_sample(light, r, time, options):
     except ValueError as e:  # a space the config lacks: this light's failure
         return {"failure": str(e).split(". Valid names")[0]}
     return s
+
+
+def _tint_spectrum(rgb, colorspace, options):
+    """A multiplier spectrum for the RGB `rgb` of `colorspace`: its colour white-balanced from
+    the space's white to the equal-energy white (XYZ scaling, docs/DESIGN.md §3), so white
+    (1, 1, 1) is flat 1 and every colour is exact under the equal-energy white."""
+    frame = _Frame(colorspace, "flat", options)
+    np = frame.np
+    xyz = frame.measured(*frame.spectrum(rgb, colorspace, "flat"), XYZ_ROLE)  # D65-referred
+    grid, _ = frame.spectrum(np.asarray(D65_WHITE), XYZ_ROLE, "flat")
+    equal_energy = frame.measured(grid, np.ones_like(grid), XYZ_ROLE)
+    return frame.spectrum(xyz * equal_energy / np.asarray(D65_WHITE), XYZ_ROLE, "flat")
 
 
 def lights(stage, **options):
@@ -1035,7 +1060,10 @@ def lights(stage, **options):
     "samples" (per time: "time", "color", "scale", "basis", ...) instead of the per-light
     keys, "values" one row per time; it fails if any time fails, naming the time. An option
     spectra() refuses raises for the first light. Cost: composing the stage, one spectrum per
-    light and time sample. A PortalLight, which emits nothing of its own, has "not_made"
+    light and time sample. A light with a texture (inputs:texture:file: a DomeLight's sky, a
+    RectLight's picture, whose emission textures() gives) has "textured" and, as UsdLux
+    multiplies the texture by the light's colour, a tint: basis "flat", flat for white (the
+    colour times intensity times 2^exposure, exact under the equal-energy white). A PortalLight, which emits nothing of its own, has "not_made"
     (why) and no spectrum."""
     import numpy as np
     import spectralize
@@ -1091,6 +1119,9 @@ def lights(stage, **options):
         if r["basis"] == "D60":
             r["basis_reason"] += ("; the ACES white is no D-series white: D60, the nearest "
                                   "(colours are white-balanced to it: white light is D60)")
+        texture = prim.GetAttribute("inputs:texture:file")
+        if texture and (texture.HasAuthoredValue() or texture.GetNumTimeSamples()):
+            r["textured"] = True  # its spectrum tints its texture's (textures())
         times = _light_times(light)
         samples = []
         for t in (times or [None]):

@@ -321,3 +321,30 @@ def test_a_portal_light_is_given_no_emission_of_its_own():
     window = records["/Sky/Window"]
     assert "values" not in window and "failure" not in window
     assert "PortalLight emits nothing of its own" in window["not_made"]
+
+
+def test_a_light_with_a_texture_has_a_tint_flat_for_white():
+    # UsdLux multiplies a light's texture by its colour x intensity x 2^exposure; the texture's
+    # spectral file holds the emission, so the light's spectrum is a tint: flat for white (the
+    # intensity), a colour exact under the equal-energy white (XYZ scaling from the space's
+    # white, the test's matrices and 1 nm integration).
+    import spectralize.usd
+    stage = Usd.Stage.CreateInMemory()
+    sky = UsdLux.DomeLight.Define(stage, "/Sky")
+    sky.CreateTextureFileAttr("sky.exr")
+    sky.CreateIntensityAttr(2.0)
+    tv = UsdLux.RectLight.Define(stage, "/Tv")
+    tv.CreateTextureFileAttr("tv.png")
+    tv.CreateColorAttr(Gf.Vec3f(0.9, 0.5, 0.2))
+    tv.CreateExposureAttr(1.0)
+    records = {r["prim"]: r for r in spectralize.usd.lights(stage)}
+    white = records["/Sky"]
+    assert white["textured"] and white["basis"] == "flat"
+    assert np.max(np.abs(np.asarray(white["values"]) - 2.0)) <= 1e-6
+    r = records["/Tv"]
+    grid = r["wavelengths"]
+    m = SPACES["lin_rec709_scene"]
+    equal_energy = xyz(np.ones_like(grid), grid)
+    want = equal_energy / (m @ np.ones(3)) * (m @ (np.array([0.9, 0.5, 0.2]) * 2.0))
+    got = xyz(r["values"], grid)
+    assert np.max(np.abs(got - want)) / np.max(np.abs(want)) <= 1e-5, (got, want)
