@@ -27,6 +27,7 @@ Python bindings (pip install usd-core) are imported when a stage is opened, not 
 import glob
 import json
 import os
+import posixpath
 import re
 import tempfile
 
@@ -188,9 +189,13 @@ def _anchored(attr, path):
     """An authored asset path relative to the layer that authors it (OpenUSD's default
     resolver anchors the same way)."""
     spec = _authoring_spec(attr)
-    if spec and not os.path.isabs(path) and spec.layer.realPath:
-        return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
-    return path
+    if not spec or os.path.isabs(path) or not spec.layer.realPath:
+        return path
+    package, inner = _package_of(spec.layer.realPath)
+    if package:  # a file of the package: "<package>[<its path there>]"
+        return "%s[%s]" % (package, posixpath.normpath(posixpath.join(posixpath.dirname(inner),
+                                                                      path)))
+    return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
 
 
 def _asset_values(attr):
@@ -212,14 +217,36 @@ def _asset_values(attr):
 
 def _resolved(attr, asset):
     """The files an asset path names: its resolved path, or the UDIM tiles (1001-1999) that
-    exist next to where the layer that authors it says."""
+    exist where the layer that authors it says: beside it on disk, or inside the .usdz
+    package it is in ("<package>[<file>]", as OpenUSD names a packaged file)."""
     if UDIM not in asset.path:
         return [asset.resolvedPath] if asset.resolvedPath else []
+    spec = _authoring_spec(attr)
+    package, inner = _package_of(spec.layer.realPath if spec else "")
+    if package:
+        if "[" in inner:  # a package inside a package
+            return []
+        Sdf, _, _, _ = _pxr()
+        anchored = posixpath.normpath(posixpath.join(posixpath.dirname(inner), asset.path))
+        pattern = re.escape(anchored).replace(re.escape(UDIM), r"(1\d\d\d)")
+        names = Sdf.ZipFile.Open(package).GetFileNames()
+        return ["%s[%s]" % (package, n) for n in sorted(names) if re.fullmatch(pattern, n)]
     anchored = _anchored(attr, asset.path)
     pattern = re.escape(anchored).replace(re.escape(UDIM), r"(1\d\d\d)")
     tiles = [p for p in glob.glob(anchored.replace(UDIM, "1[0-9][0-9][0-9]"))
              if re.fullmatch(pattern, p)]
     return sorted(tiles)
+
+
+def _package_of(layer_path):
+    """(package, the layer's path inside it) for a layer in a .usdz package ("a.usdz[b.usda]",
+    or the package itself, whose first file is its layer: inner ""); ("", "") otherwise."""
+    if layer_path.endswith("]") and "[" in layer_path:
+        package, inner = layer_path[:-1].split("[", 1)
+        return package, inner
+    if layer_path.lower().endswith(".usdz"):
+        return layer_path, ""
+    return "", ""
 
 
 def _texture_records(prim, named, attr, decide):
@@ -260,10 +287,14 @@ def _asset_records(record, attr, value):
             "asset '%s' not found" % record["asset"] if record["asset"] else "no asset authored")
         if record.get("times"):
             failed["failure"] += " (%s)" % _times_said(record["times"])
-        packaged = any(".usdz" in spec.layer.identifier for spec in attr.GetPropertyStack())
-        if value and UDIM in value.path and packaged:
-            failed["failure"] = "%s.%s: UDIM tiles inside a .usdz package are not expanded" % (
-                record["prim"], record["attribute"])
+        spec = _authoring_spec(attr)
+        package, inner = _package_of(spec.layer.realPath if spec else "")
+        if value and UDIM in value.path and "[" in inner:
+            failed["failure"] = "%s.%s: UDIM tiles inside a package inside a package are not " \
+                                "expanded" % (record["prim"], record["attribute"])
+        elif value and UDIM in value.path and package:
+            failed["failure"] = "%s.%s: no UDIM tile '%s' inside the package '%s'" % (
+                record["prim"], record["attribute"], value.path, package)
         elif value and value.path:
             failed["missing"] = _anchored(attr, value.path)
         return [failed]

@@ -517,17 +517,37 @@ def test_temporaries_a_killed_run_left_are_removed_and_a_live_ones_kept(usd, sho
     assert not any(p.exists() for p in stale)
 
 
-def test_udim_tiles_in_a_package_are_said_not_to_be_expanded(usd, tmp_path):
+def test_udim_tiles_in_a_package_are_expanded_there(usd, tmp_path):
+    # A package holding its layer and two tiles (written with OpenUSD's zip writer): each tile
+    # is read from the package, never a file of the same pattern beside it on disk; a pattern
+    # with no tile there is named with the package.
     folder = tmp_path / "a"
     (folder / "tex").mkdir(parents=True)
     for tile in ("1001", "1002"):
         shutil.copy(IMAGES / "grey_ramp8.png", folder / "tex" / ("t.%s.png" % tile))
     stage = Usd.Stage.CreateNew(str(folder / "a.usda"))
     surface(stage, "/M", {"diffuseColor": ("/M/T", "tex/t.<UDIM>.png", "sRGB")})
+    texture(stage, "/M/Lost", "tex/lost.<UDIM>.png")
     stage.Save()
-    assert UsdUtils.CreateNewUsdzPackage(str(folder / "a.usda"), str(tmp_path / "a.usdz"))
-    [r] = usd.textures(tmp_path / "a.usdz")
-    assert r["failure"] == "/M/T.inputs:file: UDIM tiles inside a .usdz package are not expanded"
+    package = tmp_path / "a.usdz"
+    writer = Sdf.ZipFileWriter.CreateNew(str(package))
+    for name in ("a.usda", "tex/t.1001.png", "tex/t.1002.png"):
+        writer.AddFile(str(folder / name), name)
+    writer.Save()
+    shutil.rmtree(folder)
+    (tmp_path / "tex").mkdir()  # a decoy beside the package
+    shutil.copy(IMAGES / "grey_ramp8.png", tmp_path / "tex" / "t.1003.png")
+    records = usd.textures(package)
+    tiles = sorted(r["input"] for r in records if r["prim"] == "/M/T")
+    assert tiles == ["%s[tex/t.%s.png]" % (package, t) for t in ("1001", "1002")]
+    (lost,) = [r for r in records if r["prim"] == "/M/Lost"]
+    assert lost["failure"] == "/M/Lost.inputs:file: no UDIM tile 'tex/lost.<UDIM>.png' inside " \
+                              "the package '%s'" % package
+    summary = usd.ingest(package, tmp_path / "out", wavelengths=GRID)
+    assert summary["converted"] == 2 and summary["failed"] == 1
+    layer = Usd.Stage.Open(str(tmp_path / "out" / "spectral.usda"))
+    files = layer.GetPrimAtPath("/M/T").GetAttribute("spectralize:files").Get()
+    assert len(files) == 2 and all(os.path.isfile(f.resolvedPath) for f in files)
 
 
 @needs_exe
