@@ -101,9 +101,15 @@ def _tf_message(text):
     return (m.group(1) if m else text).strip()
 
 
-def _space_in_force(prim, undeclared, undeclared_reason):
-    """The colour space the stage declares for `prim` (UsdColorSpaceAPI, "data" for a data
-    space) and why; (`undeclared`, `undeclared_reason`) where it declares none."""
+def _space_in_force(prim, undeclared, undeclared_reason, attr=None):
+    """The colour space the stage declares for `prim` (the colorSpace metadata of its attribute
+    `attr` itself where given and authored, else UsdColorSpaceAPI; "data" for a data space)
+    and why; (`undeclared`, `undeclared_reason`) where it declares none."""
+    if attr and attr.HasColorSpace():
+        declared = str(attr.GetColorSpace())
+        return ("data" if declared in DATA_SPACES else declared,
+                "colorSpace '%s' of <%s>.%s" % (declared, attr.GetPrim().GetPath(),
+                                                 attr.GetName()))
     declared, declarer = _declared_space(prim)
     if not declared:
         return undeclared, undeclared_reason
@@ -189,13 +195,26 @@ def _anchored(attr, path):
     """An authored asset path relative to the layer that authors it (OpenUSD's default
     resolver anchors the same way)."""
     spec = _authoring_spec(attr)
-    if not spec or os.path.isabs(path) or not spec.layer.realPath:
+    return _anchored_to_layer(spec.layer, path) if spec else path
+
+
+def _anchored_to_layer(layer, path):
+    """`path` relative to `layer`: beside it on disk, or in the .usdz package it is in
+    ("<package>[<its path there>]")."""
+    if os.path.isabs(path) or not layer.realPath:
         return path
-    package, inner = _package_of(spec.layer.realPath)
-    if package:  # a file of the package: "<package>[<its path there>]"
-        return "%s[%s]" % (package, posixpath.normpath(posixpath.join(posixpath.dirname(inner),
-                                                                      path)))
-    return os.path.normpath(os.path.join(os.path.dirname(spec.layer.realPath), path))
+    package, inner = _package_of(layer.realPath)
+    if package:
+        return "%s[%s]" % (package, _inside(inner, path))
+    return os.path.normpath(os.path.join(os.path.dirname(layer.realPath), path))
+
+
+def _inside(inner, path):
+    """`path` relative to a layer at `inner` in a package (a package in it: nested)."""
+    nested, deeper = _package_of(inner)
+    if nested:
+        return "%s[%s]" % (nested, _inside(deeper, path))
+    return posixpath.normpath(posixpath.join(posixpath.dirname(inner), path))
 
 
 def _asset_values(attr):
@@ -221,32 +240,36 @@ def _resolved(attr, asset):
     package it is in ("<package>[<file>]", as OpenUSD names a packaged file)."""
     if UDIM not in asset.path:
         return [asset.resolvedPath] if asset.resolvedPath else []
-    spec = _authoring_spec(attr)
-    package, inner = _package_of(spec.layer.realPath if spec else "")
+    anchored = _anchored(attr, asset.path)
+    package, inner = _packaged(anchored)
     if package:
         if "[" in inner:  # a package inside a package
             return []
         Sdf, _, _, _ = _pxr()
-        anchored = posixpath.normpath(posixpath.join(posixpath.dirname(inner), asset.path))
-        pattern = re.escape(anchored).replace(re.escape(UDIM), r"(1\d\d\d)")
+        pattern = re.escape(inner).replace(re.escape(UDIM), r"(1\d\d\d)")
         names = Sdf.ZipFile.Open(package).GetFileNames()
         return ["%s[%s]" % (package, n) for n in sorted(names) if re.fullmatch(pattern, n)]
-    anchored = _anchored(attr, asset.path)
     pattern = re.escape(anchored).replace(re.escape(UDIM), r"(1\d\d\d)")
     tiles = [p for p in glob.glob(anchored.replace(UDIM, "1[0-9][0-9][0-9]"))
              if re.fullmatch(pattern, p)]
     return sorted(tiles)
 
 
+def _packaged(path):
+    """(package, path inside it) for a packaged file ("a.usdz[tex/b.png]"); ("", "") for a
+    file on disk."""
+    if path.endswith("]") and "[" in path:
+        package, inner = path[:-1].split("[", 1)
+        return package, inner
+    return "", ""
+
+
 def _package_of(layer_path):
     """(package, the layer's path inside it) for a layer in a .usdz package ("a.usdz[b.usda]",
     or the package itself, whose first file is its layer: inner ""); ("", "") otherwise."""
-    if layer_path.endswith("]") and "[" in layer_path:
-        package, inner = layer_path[:-1].split("[", 1)
-        return package, inner
     if layer_path.lower().endswith(".usdz"):
         return layer_path, ""
-    return "", ""
+    return _packaged(layer_path)
 
 
 def _texture_records(prim, named, attr, decide):
@@ -287,16 +310,16 @@ def _asset_records(record, attr, value):
             "asset '%s' not found" % record["asset"] if record["asset"] else "no asset authored")
         if record.get("times"):
             failed["failure"] += " (%s)" % _times_said(record["times"])
-        spec = _authoring_spec(attr)
-        package, inner = _package_of(spec.layer.realPath if spec else "")
-        if value and UDIM in value.path and "[" in inner:
+        anchored = _anchored(attr, value.path) if value and value.path else ""
+        package, inner = _packaged(anchored)
+        if UDIM in anchored and "[" in inner:
             failed["failure"] = "%s.%s: UDIM tiles inside a package inside a package are not " \
                                 "expanded" % (record["prim"], record["attribute"])
-        elif value and UDIM in value.path and package:
+        elif UDIM in anchored and package:
             failed["failure"] = "%s.%s: no UDIM tile '%s' inside the package '%s'" % (
                 record["prim"], record["attribute"], value.path, package)
-        elif value and value.path:
-            failed["missing"] = _anchored(attr, value.path)
+        elif anchored:
+            failed["missing"] = anchored
         return [failed]
     out = []
     for f in files:
@@ -345,14 +368,9 @@ def _uv_texture_decision(shader_prim, fed, file_attr):
     elif word == "sRGB":
         d["colorspace"] = "srgb_rec709_scene"
         d["colorspace_reason"] = where + ".inputs:sourceColorSpace 'sRGB'"
-    elif file_attr.HasColorSpace():  # the asset attribute's own colorSpace metadata
-        declared = str(file_attr.GetColorSpace())
-        d["colorspace"] = "data" if declared in DATA_SPACES else declared
-        d["colorspace_reason"] = "colorSpace '%s' of <%s>.%s" % (
-            declared, file_attr.GetPrim().GetPath(), file_attr.GetName())
-    else:
+    else:  # the asset attribute's own colorSpace metadata, else UsdColorSpaceAPI
         d["colorspace"], d["colorspace_reason"] = _space_in_force(shader_prim, None,
-                                                                  NO_DECLARATION)
+                                                                  NO_DECLARATION, file_attr)
     if d["colorspace"] == "data":
         d["mode"], d["mode_reason"] = "data", "its colour space is data (%s)" % d["colorspace_reason"]
     elif names & EMISSIVE_COLOUR_INPUTS:
@@ -369,13 +387,7 @@ def _uv_texture_decision(shader_prim, fed, file_attr):
 
 
 def _light_texture_decision(light_prim, file_attr):
-    if file_attr.HasColorSpace():  # the asset attribute's own colorSpace metadata
-        declared = str(file_attr.GetColorSpace())
-        colorspace = "data" if declared in DATA_SPACES else declared
-        reason = "colorSpace '%s' of <%s>.%s" % (declared, light_prim.GetPath(),
-                                                 file_attr.GetName())
-    else:
-        colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION)
+    colorspace, reason = _space_in_force(light_prim, None, NO_DECLARATION, file_attr)
     return {"feeds": [], "mode": "emission",
             "mode_reason": "the texture of %s <%s>" % (light_prim.GetTypeName(),
                                                        light_prim.GetPath()),
@@ -603,7 +615,6 @@ def _override_layer(path, opened, textures_done, light_records):
     skipped = []
 
     def under_instance(prim_path):
-        Sdf, _, _, _ = _pxr()
         prim = opened.GetPrimAtPath(Sdf.Path(prim_path).StripAllVariantSelections())
         if prim and prim.IsInstanceProxy():
             skipped.append(prim_path)
@@ -747,12 +758,6 @@ def _colour_configuration_note(opened, options):
                 stage_config))
 
 
-def _anchored_to_layer(layer, path):
-    if os.path.isabs(path) or not layer.realPath:
-        return path
-    return os.path.normpath(os.path.join(os.path.dirname(layer.realPath), path))
-
-
 def _write_lines(path, lines):
     with open(path, "w", encoding="utf-8") as f:
         for line in lines:
@@ -844,31 +849,32 @@ def _main(argv):
     per stage: "serve STAGE OUTPUT LIST OPTIONS VERBOSITY" writes the stage's list (and its
     lights), says "ready" on fd 3, then reads its command on fd 4 to its end: "finish\n"
     followed by the manifest's path writes spectral.usda from it; nothing (the tool ended the
-    batch early) stops. "lines" and "finish" (with the manifest in LIST's place) do each half
-    alone. OPTIONS: a JSON object of ingest's options; VERBOSITY 0 is -q. What fails is said on
-    stderr. Returns the exit status: 0, 1 (something failed), 3 (no OpenUSD)."""
+    batch early) stops. OPTIONS: a JSON object of ingest's options; VERBOSITY 0 is -q. What
+    fails is said on stderr. Returns the exit status: 0, 1 (something failed), 2 (another
+    command), 3 (no OpenUSD)."""
     import sys
     try:
         _pxr()
     except ImportError as e:
         print(str(e), file=sys.stderr)
         return 3
-    command, stage, output, path, options = argv[0], argv[1], argv[2], argv[3], argv[4]
+    command, stage, output, listing, options = argv[0], argv[1], argv[2], argv[3], argv[4]
+    if command != "serve":
+        print("spectralize ERROR: spectralize.usd._main: unknown command '%s'" % command,
+              file=sys.stderr)
+        return 2
     quiet = len(argv) > 5 and argv[5] == "0"
     options = json.loads(options)
     try:
         opened = _open(stage)
         records, lines, light_records, conflicts = _stage_lines(opened, output, options)
-        if command in ("lines", "serve"):
-            _write_lines(path, lines)
-            for said in conflicts:
-                print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
-            if command == "lines":
-                return 0
-            path = _serve_until_finish()
-            if path is None:
-                return 0
-        done = _finish(opened, records, output, path, light_records)
+        _write_lines(listing, lines)
+        for said in conflicts:
+            print("spectralize WARNING: '%s': %s" % (stage, said), file=sys.stderr)
+        manifest = _serve_until_finish()
+        if manifest is None:
+            return 0
+        done = _finish(opened, records, output, manifest, light_records)
     except (OSError, ValueError) as e:
         print("spectralize ERROR: " + str(e), file=sys.stderr)
         return 1
@@ -1055,6 +1061,20 @@ def _light_sample(light, r, time, options):
     return s
 
 
+def _d_series_at_white(space, config):
+    """The CIE D-series illuminant at the white of `space` (a config's name, alias or interop
+    ID; the primaries part of its interop ID names the white): "D65", "D60", or None where no
+    D-series illuminant is known there. ValueError for a space the config lacks."""
+    import spectralize
+    parts = (spectralize.colour_space(space, **config)["interop_id"] or "").split("_")
+    return D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
+
+
+def _unknown_space_said(error):
+    """A ValueError of colour_space() as a light's failure says it (without the list of names)."""
+    return str(error).split(". Valid names")[0].split("colorspace: ", 1)[-1]
+
+
 def _tint_spectrum(rgb, colorspace, options):
     """A multiplier spectrum for the RGB `rgb` of `colorspace`: its colour white-balanced from
     the space's white to the equal-energy white (XYZ scaling, docs/DESIGN.md §3), so white
@@ -1094,14 +1114,22 @@ def lights(stage, **options):
     light and time sample. A light with a texture (inputs:texture:file: a DomeLight's sky, a
     RectLight's picture, whose emission textures() gives) has "textured" and, as UsdLux
     multiplies the texture by the light's colour, a tint: basis "flat", flat for white (the
-    colour times intensity times 2^exposure, exact under the equal-energy white). A PortalLight, which emits nothing of its own, has "not_made"
-    (why) and no spectrum."""
+    colour times intensity times 2^exposure, exact under the equal-energy white). A
+    PortalLight, which emits nothing of its own, has "not_made" (why) and no spectrum."""
     import numpy as np
-    import spectralize
 
     _, Usd, UsdLux, _ = _pxr()
     stage = _open(stage)
+    config = {k: v for k, v in options.items() if k == "config"}
+    # The rendering space, once for all lights: its white names the D-series illuminant that
+    # white light is (else each light's own space's does).
     rendering, rendering_why = _rendering_space(stage)
+    rendering_basis, rendering_failure = None, None
+    if rendering:
+        try:
+            rendering_basis = _d_series_at_white(rendering, config)
+        except ValueError as e:
+            rendering_failure = "%s (%s)" % (_unknown_space_said(e), rendering_why)
     out = []
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
         if not prim.HasAPI(UsdLux.LightAPI):
@@ -1113,33 +1141,18 @@ def lights(stage, **options):
                              "light, which its color and intensity tint")
             out.append(r)
             continue
-        colour_attr = light.GetColorAttr()
-        if colour_attr and colour_attr.HasColorSpace():  # the colour's own colorSpace metadata
-            r["colorspace"] = str(colour_attr.GetColorSpace())
-            r["colorspace_reason"] = "colorSpace '%s' of <%s>.%s" % (
-                r["colorspace"], prim.GetPath(), colour_attr.GetName())
-        else:
-            r["colorspace"], r["colorspace_reason"] = _space_in_force(
-                prim, "lin_rec709_scene",
-                "the stage declares none: OpenUSD's default, lin_rec709_scene")
-        # The rendering space: the stage's renderingColorSpace, else the light's own. Its white
-        # (the primaries part of its interop ID, as the config has the space by name, alias or
-        # ID) names the D-series illuminant that white light is.
+        r["colorspace"], r["colorspace_reason"] = _space_in_force(
+            prim, "lin_rec709_scene",
+            "the stage declares none: OpenUSD's default, lin_rec709_scene", light.GetColorAttr())
         if rendering:
             r["rendering_colorspace"], r["rendering_colorspace_reason"] = rendering, rendering_why
         failure, r["basis"] = None, None
-        config = {k: v for k, v in options.items() if k == "config"}
-        for space, why_space in ((r["colorspace"], r["colorspace_reason"]),
-                                 (rendering, rendering_why)):
-            if not space or failure:
-                continue
-            try:
-                facts = spectralize.colour_space(space, **config)
-                parts = (facts["interop_id"] or "").split("_")
-                r["basis"] = D_SERIES_WHITE.get(parts[1]) if len(parts) == 3 else None
-            except ValueError as e:
-                why = str(e).split(". Valid names")[0].split("colorspace: ", 1)[-1]
-                failure = "%s (%s)" % (why, why_space)
+        try:  # the light's own space, as the config has it (by name, alias or interop ID)
+            r["basis"] = _d_series_at_white(r["colorspace"], config)
+        except ValueError as e:
+            failure = "%s (%s)" % (_unknown_space_said(e), r["colorspace_reason"])
+        if rendering and not failure:
+            failure, r["basis"] = rendering_failure, rendering_basis
         if not failure and r["basis"] is None:
             failure = "colour space '%s': no CIE D-series illuminant is known at its white" % (
                 rendering or r["colorspace"])
